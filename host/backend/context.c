@@ -1,0 +1,44 @@
+#include "backend/context.h"
+
+#include "core/common.h"
+
+#include <stdlib.h>
+
+dp_status dp_context_create(dp_context **out, dp_backend_kind kind, const char *device, dp_error *err)
+{
+	*out = NULL;
+	if (kind != DP_BACKEND_CL && kind != DP_BACKEND_REF)
+		return dp_fail(err, DP_ERR_ARG, "unknown backend %d", (int)kind);
+	dp_context *ctx = calloc(1, sizeof *ctx);
+	if (!ctx)
+		return dp_fail(err, DP_ERR_NOMEM, "out of memory creating a context");
+	ctx->kind = kind;
+	if (kind == DP_BACKEND_CL) {
+		dp_status st = dp_cl_open(&ctx->cl, device, err);
+		if (st != DP_OK) {
+			free(ctx);
+			return st;
+		}
+	}
+	*out = ctx;
+	return DP_OK;
+}
+
+void dp_context_free(dp_context *ctx)
+{
+	if (!ctx)
+		return;
+	if (ctx->kind == DP_BACKEND_CL)
+		dp_cl_close(&ctx->cl);
+	free(ctx);
+}
+
+const char *dp_context_device_name(const dp_context *ctx)
+{
+	return ctx->kind == DP_BACKEND_CL ? ctx->cl.name : "reference (scalar C)";
+}
+
+dp_backend_kind dp_context_backend(const dp_context *ctx)
+{
+	return ctx->kind;
+}

@@ -1,0 +1,19 @@
+/* The dp_context behind the public opaque handle: which backend runs the
+ * operators, and for OpenCL the opened device with its built program. */
+#ifndef DP_BACKEND_CONTEXT_H
+#define DP_BACKEND_CONTEXT_H
+
+#include "cl/runtime.h"
+
+struct dp_context {
+	dp_backend_kind kind;
+	dp_cl cl;              /* opened only for DP_BACKEND_CL */
+	double pair_evaluations; /* neighbour pairs visited by operators, for reports */
+};
+
+/* Pairs closer than DP_PAIR_EPS times the operator's radius are skipped by
+ * every neighbour sum: they are a point and itself, or exact duplicates, and
+ * the 1/d weights of WLOP and the L1 terms would be infinite there. */
+#define DP_PAIR_EPS 1e-5f
+
+#endif

@@ -1,0 +1,125 @@
+/* Enumerating OpenCL devices and choosing one by index or name. */
+#include "cl/device.h"
+
+#include "core/common.h"
+
+#include <ctype.h>
+#include <stdlib.h>
+#include <string.h>
+
+static int contains_nocase(const char *hay, const char *needle)
+{
+	size_t n = strlen(needle);
+	for (; *hay; hay++) {
+		size_t i = 0;
+		while (i < n && hay[i] && tolower((unsigned char)hay[i]) == tolower((unsigned char)needle[i]))
+			i++;
+		if (i == n)
+			return 1;
+	}
+	return n == 0;
+}
+
+static int is_index(const char *s)
+{
+	if (!*s)
+		return 0;
+	for (; *s; s++)
+		if (!isdigit((unsigned char)*s))
+			return 0;
+	return 1;
+}
+
+dp_status dp_cl_devices(dp_cl_device *out, size_t cap, size_t *count, dp_error *err)
+{
+	cl_platform_id platforms[DP_CL_MAX_DEVICES];
+	cl_uint nplat = 0;
+	*count = 0;
+	cl_int rc = clGetPlatformIDs(DP_CL_MAX_DEVICES, platforms, &nplat);
+	if (rc == -1001 /* CL_PLATFORM_NOT_FOUND_KHR */ || (rc == CL_SUCCESS && nplat == 0))
+		return DP_OK;
+	if (rc != CL_SUCCESS)
+		return dp_fail(err, DP_ERR_CL, "OpenCL: clGetPlatformIDs failed: %s", dp_cl_error_name(rc));
+	if (nplat > DP_CL_MAX_DEVICES)
+		nplat = DP_CL_MAX_DEVICES;
+	for (cl_uint p = 0; p < nplat; p++) {
+		char pname[128] = "";
+		clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof pname - 1, pname, NULL);
+		cl_device_id devices[DP_CL_MAX_DEVICES];
+		cl_uint ndev = 0;
+		rc = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, DP_CL_MAX_DEVICES, devices, &ndev);
+		if (rc == CL_DEVICE_NOT_FOUND)
+			continue;
+		if (rc != CL_SUCCESS)
+			return dp_fail(err, DP_ERR_CL, "OpenCL: clGetDeviceIDs on platform '%s' failed: %s", pname,
+				       dp_cl_error_name(rc));
+		if (ndev > DP_CL_MAX_DEVICES)
+			ndev = DP_CL_MAX_DEVICES;
+		for (cl_uint d = 0; d < ndev && *count < cap; d++) {
+			dp_cl_device *o = &out[(*count)++];
+			char dname[256] = "";
+			cl_device_type type = 0;
+			clGetDeviceInfo(devices[d], CL_DEVICE_NAME, sizeof dname - 1, dname, NULL);
+			clGetDeviceInfo(devices[d], CL_DEVICE_TYPE, sizeof type, &type, NULL);
+			clGetDeviceInfo(devices[d], CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units,
+					&o->compute_units, NULL);
+			clGetDeviceInfo(devices[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem,
+					&o->global_mem, NULL);
+			o->platform = platforms[p];
+			o->device = devices[d];
+			snprintf(o->name, sizeof o->name, "%s / %s", pname, dname);
+			o->type = (type & CL_DEVICE_TYPE_GPU) ? "GPU" : (type & CL_DEVICE_TYPE_CPU) ? "CPU" : "other";
+		}
+	}
+	return DP_OK;
+}
+
+dp_status dp_cl_choose(const char *spec, dp_cl_device *chosen, dp_error *err)
+{
+	dp_cl_device list[DP_CL_MAX_DEVICES];
+	size_t n = 0;
+	dp_status st = dp_cl_devices(list, DP_CL_MAX_DEVICES, &n, err);
+	if (st != DP_OK)
+		return st;
+	if (!spec || !*spec)
+		spec = getenv("DPOINTS_DEVICE");
+	if (n == 0)
+		return dp_fail(err, DP_ERR_NO_DEVICE,
+			       "OpenCL: no platform or device found (install pocl-opencl-icd for the CPU, "
+			       "or use --backend ref)");
+	if (!spec || !*spec) {
+		*chosen = list[0];
+		return DP_OK;
+	}
+	if (is_index(spec)) {
+		unsigned long i = strtoul(spec, NULL, 10);
+		if (i >= n)
+			return dp_fail(err, DP_ERR_NO_DEVICE,
+				       "OpenCL: device index %s is out of range (%zu device%s; see `dpoints devices`)",
+				       spec, n, n == 1 ? "" : "s");
+		*chosen = list[i];
+		return DP_OK;
+	}
+	for (size_t i = 0; i < n; i++)
+		if (contains_nocase(list[i].name, spec)) {
+			*chosen = list[i];
+			return DP_OK;
+		}
+	return dp_fail(err, DP_ERR_NO_DEVICE, "OpenCL: no device name contains '%s' (see `dpoints devices`)", spec);
+}
+
+dp_status dp_list_devices(FILE *out, dp_error *err)
+{
+	dp_cl_device list[DP_CL_MAX_DEVICES];
+	size_t n = 0;
+	dp_status st = dp_cl_devices(list, DP_CL_MAX_DEVICES, &n, err);
+	if (st != DP_OK)
+		return st;
+	if (n == 0)
+		return dp_fail(err, DP_ERR_NO_DEVICE,
+			       "OpenCL: no platform or device found (install pocl-opencl-icd for the CPU)");
+	for (size_t i = 0; i < n; i++)
+		fprintf(out, "%zu: %s [%s, %u compute units, %.1f GiB]\n", i, list[i].name, list[i].type,
+			(unsigned)list[i].compute_units, (double)list[i].global_mem / (1024.0 * 1024.0 * 1024.0));
+	return DP_OK;
+}

@@ -1,0 +1,423 @@
+/*
+ * dpoints — Deep Points Consolidation (Wu et al., SIGGRAPH Asia 2015) of raw,
+ * noisy, incomplete 3D scans, with OpenCL kernels and a scalar reference.
+ *
+ * One public header. Conventions for every function below:
+ *  - Functions return a dp_status; DP_OK is zero. When `err` is not NULL it
+ *    receives one human-readable line naming the file or stage and the problem.
+ *  - Structures the library fills (dp_cloud, dp_wlop_stats, ...) are owned by
+ *    the caller once returned and are released with the matching _free function.
+ *  - Lengths are in the units of the input coordinates unless a name says `_r`
+ *    (multiples of r, the mean nearest-neighbour spacing of the surface samples).
+ *  - Thread-safety: functions that take no dp_context are reentrant. A
+ *    dp_context may be used by one thread at a time; different contexts may be
+ *    used from different threads concurrently.
+ */
+#ifndef DPOINTS_H
+#define DPOINTS_H
+
+#include <stddef.h>
+#include <stdio.h>
+#include <stdint.h>
+
+#ifdef __cplusplus
+extern "C" {
+#endif
+
+/* ------------------------------------------------------------------ errors */
+
+typedef enum dp_status {
+	DP_OK = 0,
+	DP_ERR_ARG,          /* an argument or parameter is out of range */
+	DP_ERR_IO,           /* a file could not be opened, read or written */
+	DP_ERR_FORMAT,       /* a file's contents are malformed or unsupported */
+	DP_ERR_EMPTY,        /* an input holds no usable points */
+	DP_ERR_NOMEM,        /* host memory allocation failed */
+	DP_ERR_NO_DEVICE,    /* no OpenCL platform/device, or none matches */
+	DP_ERR_CL,           /* an OpenCL call failed (message has the cl_int name) */
+	DP_ERR_KERNEL_BUILD, /* the OpenCL program failed to build (log in message) */
+	DP_ERR_INTERNAL      /* an invariant broke; a bug */
+} dp_status;
+
+#define DP_ERROR_MESSAGE_MAX 1024
+
+/* Error details. Caller-owned, usually on the stack; zero-initialise it. */
+typedef struct dp_error {
+	dp_status status;
+	char message[DP_ERROR_MESSAGE_MAX];
+} dp_error;
+
+/* A static string naming the status ("file format error", ...). */
+const char *dp_status_string(dp_status status);
+
+/* ------------------------------------------------------------- point sets */
+
+/*
+ * A point set, structure-of-arrays. x, y, z hold n floats each. nx, ny, nz are
+ * either all NULL or all hold n floats. faces, when not NULL, holds 3*nfaces
+ * vertex indices of triangles (only filled when a mesh is asked for).
+ * All arrays are malloc'ed and owned by the struct; release with dp_cloud_free.
+ */
+typedef struct dp_cloud {
+	size_t n;
+	float *x, *y, *z;
+	float *nx, *ny, *nz;
+	size_t nfaces;
+	uint32_t *faces;
+} dp_cloud;
+
+/* Allocates arrays for n points (and normals when with_normals); the contents
+ * are uninitialised. The struct is overwritten, not freed first. */
+dp_status dp_cloud_alloc(dp_cloud *cloud, size_t n, int with_normals, dp_error *err);
+/* Adds (uninitialised) normal arrays to a cloud that has none. */
+dp_status dp_cloud_add_normals(dp_cloud *cloud, dp_error *err);
+/* Frees every array and zeroes the struct. NULL and zeroed structs are fine. */
+void dp_cloud_free(dp_cloud *cloud);
+/* Deep copy. */
+dp_status dp_cloud_copy(dp_cloud *dst, const dp_cloud *src, dp_error *err);
+
+/* ---------------------------------------------------------------- file I/O */
+
+typedef enum dp_read_flags {
+	DP_READ_POINTS = 0,    /* positions (and normals when the file has them) */
+	DP_READ_MESH = 1       /* also read triangle faces (polygons are fanned) */
+} dp_read_flags;
+
+/*
+ * Reads PLY (ascii, binary little/big endian), XYZ (3 or 6 columns), PCD
+ * (ascii, binary), OFF/NOFF or OBJ, chosen by the file extension (and the
+ * PLY/OFF magic). Rejects missing, empty, truncated or lying files and
+ * non-finite coordinates with DP_ERR_IO / DP_ERR_FORMAT / DP_ERR_EMPTY; on
+ * error `cloud` is left zeroed. On success the caller owns `cloud`.
+ */
+dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err);
+
+/* A named per-vertex float property for dp_ply_write. */
+typedef struct dp_ply_property {
+	const char *name;
+	const float *values; /* n floats */
+} dp_ply_property;
+
+/*
+ * Writes a PLY file: n vertices with the given float properties (in order),
+ * then optional edges (2*nedges vertex indices, `element edge`, so MeshLab and
+ * CloudCompare draw segments) and faces (3*nfaces). Binary little endian unless
+ * `ascii`. Written to a temporary name in the same folder and renamed, so a
+ * failure never leaves a partial file at `path`.
+ */
+dp_status dp_ply_write(const char *path, size_t n, const dp_ply_property *props, size_t nprops,
+		       const uint32_t *edges, size_t nedges, const uint32_t *faces, size_t nfaces,
+		       int ascii, dp_error *err);
+
+/* Writes x y z (and nx ny nz when present, faces when present) as PLY. */
+dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii, dp_error *err);
+
+/* ------------------------------------------------------- OpenCL, backends */
+
+typedef enum dp_backend_kind {
+	DP_BACKEND_CL = 0,  /* OpenCL kernels on the chosen device */
+	DP_BACKEND_REF = 1  /* scalar C reference: the specification, slow */
+} dp_backend_kind;
+
+/* Opaque: the backend, and for DP_BACKEND_CL the device, context, queue and
+ * built program (built once, reused by every call on this context). */
+typedef struct dp_context dp_context;
+
+/*
+ * Creates a context. For DP_BACKEND_CL, `device` picks the device: NULL means
+ * the DPOINTS_DEVICE environment variable, else device 0; a decimal string is
+ * an index into the list printed by dp_list_devices; anything else is matched
+ * as a case-insensitive substring of "platform / device" names. Fails with
+ * DP_ERR_NO_DEVICE or DP_ERR_KERNEL_BUILD (build log in err). For
+ * DP_BACKEND_REF no OpenCL call is made. Free with dp_context_free.
+ */
+dp_status dp_context_create(dp_context **ctx, dp_backend_kind kind, const char *device, dp_error *err);
+void dp_context_free(dp_context *ctx);
+/* "reference (scalar C)" or the OpenCL platform and device name. */
+const char *dp_context_device_name(const dp_context *ctx);
+dp_backend_kind dp_context_backend(const dp_context *ctx);
+
+/* Prints every OpenCL platform and device with its index, one per line, as
+ * accepted by dp_context_create's `device`. */
+dp_status dp_list_devices(FILE *out, dp_error *err);
+
+/* ------------------------------------------------------------------- WLOP */
+
+typedef enum dp_wlop_weight {
+	DP_WLOP_L1 = 0,      /* α = θ(d)/d: L1-median attraction (Huang et al. 2009) */
+	DP_WLOP_GAUSSIAN = 1 /* α = θ(d): Gaussian mean (CGAL, the authors' tool) */
+} dp_wlop_weight;
+
+typedef struct dp_wlop_params {
+	size_t samples;        /* m; 0 = use ratio */
+	double ratio;          /* m = ratio * |C| when samples == 0; default 0.1 */
+	double h;              /* support radius; <= 0 = h_factor * mean NN spacing of the initial samples */
+	double h_factor;       /* default 5 */
+	double mu;             /* repulsion weight; default 0.45 */
+	int max_iters;         /* default 100 */
+	double tol;            /* stop when the largest move < tol * h; default 0.001 */
+	double theta_k;        /* θ(d) = exp(-theta_k d²/h²); default 16 (variant: 4) */
+	dp_wlop_weight weight; /* default DP_WLOP_L1 */
+	int sqrt_density;      /* sample density sqrt(1+Σθ) instead of 1+Σθ; default 0 */
+	uint64_t seed;         /* initial sample choice; default 1 */
+} dp_wlop_params;
+
+void dp_wlop_params_default(dp_wlop_params *p);
+
+typedef struct dp_wlop_stats {
+	double h;
+	int iterations;
+	double last_max_move;  /* in units of h */
+	double seconds_density, seconds_iterations;
+	double pair_evaluations; /* neighbour pairs visited in total */
+} dp_wlop_stats;
+
+/*
+ * Runs WLOP on `input` (positions only are read) and writes the m samples to
+ * `samples` (caller frees with dp_cloud_free). `stats` may be NULL.
+ */
+dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *params,
+		  dp_cloud *samples, dp_wlop_stats *stats, dp_error *err);
+
+/* ---------------------------------------------------------------- normals */
+
+typedef struct dp_normal_params {
+	int k;                 /* PCA neighbourhood size; default 16 */
+	int k_graph;           /* orientation graph degree; default 8 */
+	int use_viewpoint;     /* orient towards `viewpoint` instead of the MST */
+	double viewpoint[3];
+} dp_normal_params;
+
+void dp_normal_params_default(dp_normal_params *p);
+
+/* Estimates PCA normals of `cloud` (adding normal arrays if absent) and orients
+ * them consistently outwards (MST propagation per connected component, then a
+ * global outward check), or towards the viewpoint. */
+dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err);
+
+/* -------------------------------------------------------------- rendering */
+
+/*
+ * Pictures of point sets for people to look at (owner: render module,
+ * host/tools/render.c). All functions here take no dp_context and are
+ * reentrant; they only read the layers and clouds they are given.
+ */
+
+/* One set of points drawn in one colour. The layer and the arrays it points
+ * to stay owned by the caller. */
+typedef struct dp_render_layer {
+	const dp_cloud *cloud;    /* positions; its normals, when present, shade the points */
+	const uint32_t *edges;    /* 2*nedges indices into cloud, drawn as segments; may be NULL */
+	size_t nedges;
+	int segments_only;        /* draw the edges but not the points (deep points as sticks) */
+	unsigned char rgb[3];
+	float point_size_px;      /* splat diameter in pixels; 0 = from the image size and point count */
+} dp_render_layer;
+
+typedef struct dp_render_params {
+	int width;                    /* pixels of each (square) view; default 512 */
+	int views;                    /* K views side by side, 360/K degrees apart; default 3 */
+	int up_axis;                  /* 0 = x, 1 = y, 2 = z is vertical; default 1 (the Stanford scans) */
+	double elevation_deg;         /* camera height above the horizon, in (-90, 90); default 20 */
+	double azimuth_deg;           /* first view; 0 = camera on the +axis (up_axis+1) mod 3; default 0 */
+	unsigned char background[3];  /* default white */
+} dp_render_params;
+
+void dp_render_params_default(dp_render_params *p);
+
+/*
+ * Renders every layer into one RGB image of views*width x width pixels: the
+ * views orbit the vertical axis of the union bounding box of all layers, share
+ * one orthographic camera scale fitted to that box, and are laid left to
+ * right. Points are z-buffered round splats, edges z-buffered 1-pixel lines
+ * (depth interpolated along them), so nearer geometry hides farther geometry
+ * of any layer. Shading: with normals, Lambert |n.v| towards the viewer (so
+ * unoriented or flipped normals are lit too); without, nearer is brighter.
+ * Non-finite points and edges touching them are skipped. `params` NULL means
+ * defaults. On success *rgb is a malloc'ed buffer of 3*(*w)*(*h) bytes, rows
+ * top to bottom, that the caller frees. Errors: DP_ERR_ARG (size, views, axis,
+ * elevation or point size out of range, a NULL layer array or cloud, an edge
+ * index out of range), DP_ERR_EMPTY (no finite point in any layer),
+ * DP_ERR_NOMEM.
+ */
+dp_status dp_render_rgb(const dp_render_layer *layers, size_t nlayers, const dp_render_params *params,
+			unsigned char **rgb, int *w, int *h, dp_error *err);
+
+/*
+ * dp_render_rgb, then writes the image as an 8-bit RGB PNG at `path`, through
+ * a temporary file in the same folder renamed at the end, so a failure never
+ * leaves a file (partial or temporary) behind. Errors as dp_render_rgb, plus
+ * DP_ERR_IO naming `path` when it cannot be written.
+ */
+dp_status dp_render_png(const char *path, const dp_render_layer *layers, size_t nlayers,
+			const dp_render_params *params, dp_error *err);
+
+/*
+ * Parses a colour: a name (red, green, blue, orange, purple, yellow, cyan,
+ * magenta, pink, brown, grey/gray, black, white; any case) or #rgb / #rrggbb
+ * hex. Returns 0 and fills rgb, or -1 leaving rgb untouched.
+ */
+int dp_parse_colour(const char *text, unsigned char rgb[3]);
+
+/* A colour for layer `index`: neighbouring indices get clearly different
+ * hues, all readable on the default white background; cycles after 8. */
+void dp_render_default_colour(size_t index, unsigned char rgb[3]);
+
+/* ------------------------------------------ Shapes, scanning, evaluation */
+/*
+ * Owned by host/tools/ (shapes.c, mesh.c, scan.c, eval.c). A triangle mesh is
+ * a dp_cloud whose faces hold 3*nfaces vertex indices, as dp_cloud_read(...,
+ * DP_READ_MESH) returns it; meshes made here are closed and wound
+ * counter-clockwise seen from outside (outward normals). Every function is
+ * reentrant (no global state); outputs are caller-owned (dp_cloud_free, free).
+ * A mesh without faces, with face indices out of range or with non-finite
+ * vertices fails with DP_ERR_ARG / DP_ERR_FORMAT naming the stage.
+ */
+
+typedef enum dp_shape_kind {
+	DP_SHAPE_SPHERE = 0,   /* radius R, centred at the origin */
+	DP_SHAPE_CYLINDER,     /* capped; radius R, length L along z, centred */
+	DP_SHAPE_SLAB,         /* thin box W x W (x, y) x T (z), centred */
+	DP_SHAPE_TORUS,        /* core radius R in the xy-plane, tube radius rho */
+	DP_SHAPE_KNOT,         /* tube of radius rho around a trefoil curve */
+	DP_SHAPE_CHAIR         /* seat slab, 4 cylindrical legs, back slab; floor z = 0 */
+} dp_shape_kind;
+
+/*
+ * An analytic shape. Field meaning per kind (defaults from dp_shape_default):
+ *   sphere:   radius = R (1)
+ *   cylinder: radius = R (0.25), length = L (2)
+ *   slab:     width = W (2), thickness = T (0.2)
+ *   torus:    radius = R (1), tube = rho (0.3)
+ *   knot:     radius = scale s of the trefoil (sin t + 2 sin 2t, cos t - 2 cos 2t,
+ *             -sin 3t) (0.35), tube = rho (0.12); rho <= 0.5 s keeps the tube
+ *             free of self-intersection
+ *   chair:    width = seat W (1), thickness = seat and back T (0.08),
+ *             radius = leg radius (0.05), length = leg length = seat height
+ *             (0.9), height = back height above the seat (1). Parts are
+ *             separate closed meshes that touch: the leg tops and the back's
+ *             underside lie on the seat (hidden contact faces, about 4% of
+ *             the area, are part of the mesh and of the distance functions).
+ * resolution = segments around the smallest circumference (48); other
+ * directions are divided so that triangles are roughly equilateral.
+ */
+typedef struct dp_shape {
+	dp_shape_kind kind;
+	double radius, length, width, thickness, tube, height;
+	int resolution;
+} dp_shape;
+
+/* Fills `shape` with the defaults of the shape called `name` ("sphere",
+ * "cylinder", "slab", "torus", "knot", "chair"); DP_ERR_ARG listing the valid
+ * names otherwise. */
+dp_status dp_shape_default(const char *name, dp_shape *shape, dp_error *err);
+/* The name of a kind ("sphere", ...), or "unknown". */
+const char *dp_shape_name(dp_shape_kind kind);
+/* Triangulates the shape into `mesh` (positions and faces, no normals).
+ * DP_ERR_ARG for non-positive or inconsistent dimensions or a resolution
+ * outside [3, 4096]. */
+dp_status dp_shape_mesh(const dp_shape *shape, dp_cloud *mesh, dp_error *err);
+/* Exact volume of the analytic solid (knot: pi rho^2 times the curve length). */
+double dp_shape_volume(const dp_shape *shape);
+/* Unsigned distance from p to the analytic surface (exact; knot: to within
+ * 1e-5 s, from a dense polyline of its core curve). */
+double dp_shape_surface_distance(const dp_shape *shape, const double p[3]);
+/* Distance from p to the ideal meso-skeleton: sphere centre, cylinder axis
+ * segment (|z| <= L/2), slab mid-plane rectangle, torus core circle, knot core
+ * curve, chair: nearest of seat and back mid-plane rectangles and leg axes. */
+double dp_shape_skeleton_distance(const dp_shape *shape, const double p[3]);
+/* n >= 2 samples of the core curve into `out` (positions only): cylinder
+ * axis from z = -L/2 to L/2, torus core circle, knot core curve (closed curves
+ * are sampled without repeating the first point). DP_ERR_ARG for shapes
+ * without a single core curve. */
+dp_status dp_shape_core_curve(const dp_shape *shape, size_t n, dp_cloud *out, dp_error *err);
+
+/*
+ * n points sampled uniformly by area on the mesh surface (seeded,
+ * reproducible), each with the unit normal of its triangle (outward for
+ * outward-wound meshes), plus isotropic Gaussian noise of standard deviation
+ * `noise` x the bbox diagonal per coordinate (0 = exact samples). DP_ERR_ARG
+ * for n == 0, a negative noise or a mesh of zero area.
+ */
+dp_status dp_mesh_sample(const dp_cloud *mesh, size_t n, double noise, uint64_t seed,
+			 dp_cloud *out, dp_error *err);
+
+typedef enum dp_scan_layout {
+	DP_SCAN_RING = 0,   /* eyes on a circle around the z axis at `elevation_deg` */
+	DP_SCAN_SPHERE = 1  /* eyes spread evenly over a sphere (Fibonacci lattice) */
+} dp_scan_layout;
+
+typedef struct dp_scan_params {
+	int views;             /* number of viewpoints; default 6 */
+	int res;               /* rays per view: res x res grid; default 256 */
+	double noise;          /* Gaussian sigma per coordinate, in bbox diagonals; default 0 */
+	double distance;       /* eye distance from the bbox centre, in bbox diagonals (> 0.5); default 2 */
+	int perspective;       /* 1 = pinhole rays from the eye (default); 0 = parallel rays */
+	dp_scan_layout layout; /* default DP_SCAN_RING */
+	double elevation_deg;  /* ring: eye height angle above the xy-plane; default 20 */
+	double azimuth_deg;    /* ring: azimuth of view 0 from +x towards +y; default 0 */
+	int normals;           /* output the hit triangle's normal, turned to face the eye; default 1 */
+	uint64_t seed;         /* noise seed; default 1 */
+} dp_scan_params;
+
+void dp_scan_params_default(dp_scan_params *p);
+
+/*
+ * Range-scans `mesh` by ray casting (BVH, first hit per ray): every view
+ * aims a res x res grid of rays at the bbox centre that just covers the
+ * mesh's bounding sphere. `out` receives the hit points in view order (with
+ * normals when params->normals). When `view_of_point` is not NULL it receives
+ * a malloc'ed array of out->n view indices (caller frees). DP_ERR_ARG for
+ * parameters out of range, DP_ERR_EMPTY when no ray hits.
+ */
+dp_status dp_scan(const dp_cloud *mesh, const dp_scan_params *params, dp_cloud *out,
+		  uint32_t **view_of_point, dp_error *err);
+/* The eye positions of the views of dp_scan (3 * params->views doubles). */
+dp_status dp_scan_viewpoints(const dp_cloud *mesh, const dp_scan_params *params, double *eyes,
+			     dp_error *err);
+
+typedef struct dp_eval_params {
+	size_t samples;         /* uniform surface samples for completeness/coverage; default 20000 */
+	double coverage_factor; /* a sample is covered within factor x mean NN spacing; default 1.5 */
+	uint64_t seed;          /* surface sampling seed; default 1 */
+} dp_eval_params;
+
+void dp_eval_params_default(dp_eval_params *p);
+
+/* Metrics of a point set against a ground-truth mesh. Every length is in
+ * units of the mesh's bbox diagonal. */
+typedef struct dp_eval_result {
+	size_t points, samples;
+	double diagonal;          /* bbox diagonal of the mesh, input units */
+	double accuracy_mean;     /* mean distance of the points to the surface */
+	double accuracy_p95;      /* its 95th percentile */
+	double accuracy_rms;      /* root mean square (= noise sigma for noisy exact samples) */
+	double accuracy_max;
+	double completeness_mean; /* mean distance of surface samples to the nearest point */
+	double coverage;          /* fraction of surface samples within coverage_radius of a point */
+	double coverage_radius;   /* coverage_factor x spacing_mean */
+	double spacing_mean;      /* mean nearest-neighbour distance among the points */
+	double spacing_cv;        /* its coefficient of variation (std / mean): uniformity */
+	int has_normals;          /* normal metrics below are valid (0 when points have none) */
+	size_t normals_used;      /* points with a usable (non-zero, finite) normal */
+	double normal_angle_deg;  /* mean angle to the nearest triangle's normal, ignoring sign */
+	double normal_flipped;    /* fraction of normals more than 90 deg from the outward normal */
+	double seconds;
+} dp_eval_result;
+
+/*
+ * Evaluates `points` (at least 2, finite; normals optional) against `mesh`.
+ * params may be NULL for the defaults. Accuracy uses the exact point-triangle
+ * distance; completeness and coverage use params->samples area-uniform
+ * samples of the mesh. DP_ERR_EMPTY for fewer than 2 points, DP_ERR_ARG for
+ * bad parameters or non-finite points.
+ */
+dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_params *params,
+		  dp_eval_result *result, dp_error *err);
+/* Prints the result as one JSON object on one line. */
+void dp_eval_json(const dp_eval_result *result, FILE *out);
+
+#ifdef __cplusplus
+}
+#endif
+#endif

@@ -1,0 +1,125 @@
+#include "testkit.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+static dp_context *cl_ctx, *ref_ctx;
+
+dp_context *tk_cl_context(void)
+{
+	if (!cl_ctx) {
+		dp_error err = {0};
+		if (dp_context_create(&cl_ctx, DP_BACKEND_CL, NULL, &err) != DP_OK)
+			fail_msg("no OpenCL context: %s", err.message);
+	}
+	return cl_ctx;
+}
+
+dp_context *tk_ref_context(void)
+{
+	if (!ref_ctx) {
+		dp_error err = {0};
+		if (dp_context_create(&ref_ctx, DP_BACKEND_REF, NULL, &err) != DP_OK)
+			fail_msg("no reference context: %s", err.message);
+	}
+	return ref_ctx;
+}
+
+int tk_teardown_contexts(void **state)
+{
+	(void)state;
+	dp_context_free(cl_ctx);
+	dp_context_free(ref_ctx);
+	cl_ctx = ref_ctx = NULL;
+	return 0;
+}
+
+size_t tk_random_points(dp_rng *rng, size_t n_uniform, float extent, float cell, float **px, float **py, float **pz)
+{
+	const size_t n_dup = 8, n_border = 16, n_cluster = 32, n_isolated = 1;
+	size_t n = n_uniform + n_dup + n_border + n_cluster + n_isolated;
+	float *x = malloc(n * sizeof *x), *y = malloc(n * sizeof *y), *z = malloc(n * sizeof *z);
+	assert_non_null(x);
+	assert_non_null(y);
+	assert_non_null(z);
+	size_t i = 0;
+	for (; i < n_uniform; i++) {
+		x[i] = (float)(dp_rng_uniform(rng) * extent);
+		y[i] = (float)(dp_rng_uniform(rng) * extent);
+		z[i] = (float)(dp_rng_uniform(rng) * extent);
+	}
+	for (size_t d = 0; d < n_dup; d++, i++) {
+		size_t src = n_uniform ? (size_t)(dp_rng_uniform(rng) * (double)n_uniform) : 0;
+		x[i] = n_uniform ? x[src] : 0.5f * extent;
+		y[i] = n_uniform ? y[src] : 0.5f * extent;
+		z[i] = n_uniform ? z[src] : 0.5f * extent;
+	}
+	for (size_t b = 0; b < n_border; b++, i++) {
+		x[i] = cell * (float)(int)(dp_rng_uniform(rng) * extent / cell);
+		y[i] = cell * (float)(int)(dp_rng_uniform(rng) * extent / cell);
+		z[i] = (float)(dp_rng_uniform(rng) * extent);
+	}
+	float cx = 0.3f * extent, cy = 0.6f * extent, cz = 0.4f * extent;
+	for (size_t c = 0; c < n_cluster; c++, i++) {
+		x[i] = cx + (float)(dp_rng_normal(rng) * 0.05 * cell);
+		y[i] = cy + (float)(dp_rng_normal(rng) * 0.05 * cell);
+		z[i] = cz + (float)(dp_rng_normal(rng) * 0.05 * cell);
+	}
+	x[i] = y[i] = z[i] = 3.0f * extent;
+	i++;
+	*px = x;
+	*py = y;
+	*pz = z;
+	return i;
+}
+
+void tk_assert_close(const float *a, const float *b, size_t n, float rtol, float atol, const char *what)
+{
+	size_t worst = 0, bad = 0;
+	double worst_excess = -1.0;
+	for (size_t i = 0; i < n; i++) {
+		double tol = atol + rtol * fabs((double)b[i]);
+		double diff = fabs((double)a[i] - (double)b[i]);
+		if (!(diff <= tol) || isnan(a[i]) != isnan(b[i])) {
+			bad++;
+			if (diff - tol > worst_excess || isnan(diff)) {
+				worst_excess = diff - tol;
+				worst = i;
+			}
+		}
+	}
+	if (bad)
+		fail_msg("%s: %zu of %zu values differ; worst at %zu: %.9g vs %.9g", what, bad, n, worst,
+			 (double)a[worst], (double)b[worst]);
+}
+
+const char *tk_data_path(const char *relative)
+{
+	static char path[8192];
+	const char *dir = getenv("DP_DATA_DIR");
+	char fallback[4096];
+	if (!dir) {
+		const char *src = getenv("DP_SOURCE_DIR");
+		snprintf(fallback, sizeof fallback, "%s/../shared/data", src ? src : ".");
+		dir = fallback;
+	}
+	snprintf(path, sizeof path, "%s/%s", dir, relative);
+	struct stat sb;
+	if (stat(path, &sb) != 0) {
+		printf("SKIP: test data %s is absent (shared data folder not found)\n", path);
+		return NULL;
+	}
+	return path;
+}
+
+const char *tk_temp_dir(void)
+{
+	static char dir[64];
+	snprintf(dir, sizeof dir, "/tmp/dpoints-test-XXXXXX");
+	if (!mkdtemp(dir))
+		fail_msg("mkdtemp failed");
+	return dir;
+}

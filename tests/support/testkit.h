@@ -1,0 +1,39 @@
+/* Shared helpers for the cmocka tests. */
+#ifndef DP_TESTKIT_H
+#define DP_TESTKIT_H
+
+#include <setjmp.h>
+#include <stdarg.h>
+#include <stddef.h>
+#include <stdint.h>
+#include <cmocka.h>
+
+#include "dpoints.h"
+#include "core/common.h"
+
+/* The OpenCL context shared by one test program (built once: program builds
+ * cost seconds). Fails the test when no device is found: PoCL is a required
+ * dependency, the suite must not pass without having compared kernels. */
+dp_context *tk_cl_context(void);
+/* A reference-backend context, also shared. */
+dp_context *tk_ref_context(void);
+/* Frees both; call from a group teardown. */
+int tk_teardown_contexts(void **state);
+
+/* Random points for kernel-vs-reference checks, n = n_uniform + extras, in a
+ * box of side `extent`; the extras cover the awkward cases: exact duplicates,
+ * an isolated far point, points exactly on cell borders of a grid with cell
+ * `cell` anchored at 0, and a tight cluster. Allocates *x, *y, *z (free()). */
+size_t tk_random_points(dp_rng *rng, size_t n_uniform, float extent, float cell, float **x, float **y, float **z);
+
+/* Asserts |a-b| <= atol + rtol*|b| element-wise and prints the worst index. */
+void tk_assert_close(const float *a, const float *b, size_t n, float rtol, float atol, const char *what);
+
+/* Path of a file in the shared data folder, or NULL (and a printed message)
+ * when the folder is absent: callers then skip(). Static buffer. */
+const char *tk_data_path(const char *relative);
+
+/* A fresh temporary folder (mkdtemp); static buffer. */
+const char *tk_temp_dir(void);
+
+#endif
