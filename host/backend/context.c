@@ -13,6 +13,7 @@ dp_status dp_context_create(dp_context **out, dp_backend_kind kind, const char *
 	if (!ctx)
 		return dp_fail(err, DP_ERR_NOMEM, "out of memory creating a context");
 	ctx->kind = kind;
+	ctx->started = dp_seconds();
 	if (kind == DP_BACKEND_CL) {
 		dp_status st = dp_cl_open(&ctx->cl, device, err);
 		if (st != DP_OK) {
@@ -41,4 +42,16 @@ const char *dp_context_device_name(const dp_context *ctx)
 dp_backend_kind dp_context_backend(const dp_context *ctx)
 {
 	return ctx->kind;
+}
+
+void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user)
+{
+	ctx->progress = fn;
+	ctx->progress_user = user;
+}
+
+void dp_progress(dp_context *ctx, const char *stage, int iteration, double value)
+{
+	if (ctx->progress)
+		ctx->progress(ctx->progress_user, stage, iteration, value, dp_seconds() - ctx->started);
 }

@@ -9,7 +9,13 @@ struct dp_context {
 	dp_backend_kind kind;
 	dp_cl cl;              /* opened only for DP_BACKEND_CL */
 	double pair_evaluations; /* neighbour pairs visited by operators, for reports */
+	dp_progress_fn progress;
+	void *progress_user;
+	double started;          /* dp_seconds() at creation, for progress reports */
 };
+
+/* Reports one iteration of a stage to the progress callback, if any. */
+void dp_progress(dp_context *ctx, const char *stage, int iteration, double value);
 
 /* Pairs closer than DP_PAIR_EPS times the operator's radius are skipped by
  * every neighbour sum: they are a point and itself, or exact duplicates, and

@@ -137,6 +137,14 @@ void dp_context_free(dp_context *ctx);
 const char *dp_context_device_name(const dp_context *ctx);
 dp_backend_kind dp_context_backend(const dp_context *ctx);
 
+/* Called after every iteration of a long stage with the stage name ("wlop",
+ * "sink", "skeleton", "surface"), the iteration (from 1), a stage-specific
+ * value (sink: settled points; others: mean move in r, WLOP: largest move in
+ * h) and the seconds since the context was created. Runs on the calling
+ * thread; NULL turns reports off (the default). */
+typedef void (*dp_progress_fn)(void *user, const char *stage, int iteration, double value, double elapsed);
+void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
+
 /* Prints every OpenCL platform and device with its index, one per line, as
  * accepted by dp_context_create's `device`. */
 dp_status dp_list_devices(FILE *out, dp_error *err);
@@ -216,7 +224,8 @@ typedef struct dp_render_layer {
 
 typedef struct dp_render_params {
 	int width;                    /* pixels of each (square) view; default 512 */
-	int views;                    /* K views side by side, 360/K degrees apart; default 3 */
+	int views;                    /* K views side by side, 360/K degrees apart; default 3;
+	                                 1..64, and views*width^2 at most 2^25 pixels */
 	int up_axis;                  /* 0 = x, 1 = y, 2 = z is vertical; default 1 (the Stanford scans) */
 	double elevation_deg;         /* camera height above the horizon, in (-90, 90); default 20 */
 	double azimuth_deg;           /* first view; 0 = camera on the +axis (up_axis+1) mod 3; default 0 */
@@ -298,8 +307,9 @@ typedef enum dp_shape_kind {
  *             separate closed meshes that touch: the leg tops and the back's
  *             underside lie on the seat (hidden contact faces, about 4% of
  *             the area, are part of the mesh and of the distance functions).
- * resolution = segments around the smallest circumference (48); other
- * directions are divided so that triangles are roughly equilateral.
+ * resolution = segments around the smallest circumference (48; knot and
+ * chair 32); other directions are divided so that triangles are roughly
+ * equilateral (flat faces: at most `resolution` cells per side).
  */
 typedef struct dp_shape {
 	dp_shape_kind kind;
