@@ -189,18 +189,38 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 
 /* ---------------------------------------------------------------- normals */
 
+/* Owner: normals module (host/stages/normals.c, orient.c). Reentrant, no
+ * dp_context: runs on the host (FLANN kNN, 3x3 eigen-decompositions). */
 typedef struct dp_normal_params {
-	int k;                 /* PCA neighbourhood size; default 16 */
-	int k_graph;           /* orientation graph degree; default 8 */
-	int use_viewpoint;     /* orient towards `viewpoint` instead of the MST */
-	double viewpoint[3];
+	int k;                 /* PCA neighbourhood: the point and its k nearest others; default 16, >= 2 */
+	int k_graph;           /* orientation graph: k_graph nearest others, symmetrised; default 8, >= 1 */
+	int use_viewpoint;     /* orient towards `viewpoint` instead of the MST; default 0 */
+	double viewpoint[3];   /* the scanner position, in input coordinates */
 } dp_normal_params;
 
 void dp_normal_params_default(dp_normal_params *p);
 
-/* Estimates PCA normals of `cloud` (adding normal arrays if absent) and orients
- * them consistently outwards (MST propagation per connected component, then a
- * global outward check), or towards the viewpoint. */
+/*
+ * Estimates a unit normal for every point of `cloud` (adding normal arrays if
+ * absent, overwriting them otherwise): the smallest-variance axis of the
+ * point's PCA neighbourhood. A neighbourhood that is a line or one repeated
+ * point gets some unit perpendicular (never NaN). Exact duplicates are one
+ * point (they get the same normal and do not crowd neighbourhoods). Inputs
+ * smaller than the neighbourhoods use every other point.
+ * Orientation, unless params->use_viewpoint: a minimum spanning tree over the
+ * symmetric k_graph-NN graph with weight 1 - |n_i·n_j| (Hoppe 1992, Prim),
+ * propagated in each connected component from the extreme point along ±x, ±y
+ * or ±z whose normal is best aligned with that direction (turned to point along
+ * it); then each component is flipped as a whole if its area-weighted flux
+ * Σ a_i n_i·(p_i - centroid) is negative (3 × the volume for a closed surface
+ * with outward normals, whatever its shape; positive too for an open one-sided
+ * scan of a solid, whose centroid lies behind the scanned surface). A flat open
+ * sheet is oriented consistently, to one side. With use_viewpoint every normal
+ * is turned towards the viewpoint instead.
+ * params NULL means defaults. Errors: DP_ERR_ARG (NULL cloud, k < 2,
+ * k_graph < 1, a non-finite point or viewpoint), DP_ERR_EMPTY (no points),
+ * DP_ERR_NOMEM; on error the normal values are unspecified.
+ */
 dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err);
 
 /* -------------------------------------------------------------- rendering */

@@ -1,0 +1,330 @@
+#include "stages/orient.h"
+
+#include "core/common.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NONE UINT32_MAX
+
+/* The six seed directions ±x, ±y, ±z: direction d is axis d/2, sign + for even d. */
+#define SEED_DIRECTIONS 6
+
+static const float *axis_of(int d, const float *x, const float *y, const float *z)
+{
+	return d / 2 == 0 ? x : d / 2 == 1 ? y : z;
+}
+
+static double sign_of(int d)
+{
+	return d % 2 == 0 ? 1.0 : -1.0;
+}
+
+static void flip(size_t i, float *nx, float *ny, float *nz)
+{
+	nx[i] = -nx[i];
+	ny[i] = -ny[i];
+	nz[i] = -nz[i];
+}
+
+static double dot_normals(size_t i, size_t j, const float *nx, const float *ny, const float *nz)
+{
+	return (double)nx[i] * nx[j] + (double)ny[i] * ny[j] + (double)nz[i] * nz[j];
+}
+
+/* The symmetric kNN graph in compressed rows: the neighbours of i are
+ * adj[start[i] .. start[i+1]). An edge found from both ends appears twice,
+ * which neither the traversal nor Prim minds. */
+typedef struct graph {
+	size_t *start;
+	uint32_t *adj;
+} graph;
+
+static int edge_valid(int j, size_t i, size_t n)
+{
+	return j >= 0 && (size_t)j < n && (size_t)j != i;
+}
+
+static dp_status graph_build(graph *g, size_t n, const int *nbr, int stride, int k_graph, dp_error *err)
+{
+	g->start = calloc(n + 1, sizeof *g->start);
+	size_t *fill = dp_alloc_array(n, sizeof *fill);
+	g->adj = dp_alloc_array(2 * n * (size_t)k_graph, sizeof *g->adj);
+	if (!g->start || !fill || !g->adj) {
+		free(fill);
+		return dp_fail(err, DP_ERR_NOMEM, "normals: out of memory for the orientation graph of %zu points", n);
+	}
+	for (size_t i = 0; i < n; i++)
+		for (int m = 0; m < k_graph; m++) {
+			int j = nbr[i * (size_t)stride + (size_t)m];
+			if (edge_valid(j, i, n)) {
+				g->start[i + 1]++;
+				g->start[(size_t)j + 1]++;
+			}
+		}
+	for (size_t i = 0; i < n; i++)
+		g->start[i + 1] += g->start[i];
+	memcpy(fill, g->start, n * sizeof *fill);
+	for (size_t i = 0; i < n; i++)
+		for (int m = 0; m < k_graph; m++) {
+			int j = nbr[i * (size_t)stride + (size_t)m];
+			if (edge_valid(j, i, n)) {
+				g->adj[fill[i]++] = (uint32_t)j;
+				g->adj[fill[j]++] = (uint32_t)i;
+			}
+		}
+	free(fill);
+	return DP_OK;
+}
+
+static void graph_free(graph *g)
+{
+	free(g->start);
+	free(g->adj);
+}
+
+/* Labels connected components by breadth-first search; queue holds n. */
+static size_t label_components(const graph *g, size_t n, uint32_t *comp, uint32_t *queue)
+{
+	for (size_t i = 0; i < n; i++)
+		comp[i] = NONE;
+	size_t ncomp = 0;
+	for (size_t s = 0; s < n; s++) {
+		if (comp[s] != NONE)
+			continue;
+		size_t head = 0, tail = 0;
+		comp[s] = (uint32_t)ncomp;
+		queue[tail++] = (uint32_t)s;
+		while (head < tail) {
+			uint32_t v = queue[head++];
+			for (size_t e = g->start[v]; e < g->start[v + 1]; e++) {
+				uint32_t u = g->adj[e];
+				if (comp[u] == NONE) {
+					comp[u] = (uint32_t)ncomp;
+					queue[tail++] = u;
+				}
+			}
+		}
+		ncomp++;
+	}
+	return ncomp;
+}
+
+/* An indexed binary min-heap over point ids keyed by the weight of the
+ * cheapest edge to the tree, with decrease-key (pos[v] == NONE: not queued). */
+typedef struct heap {
+	uint32_t *item;
+	uint32_t *pos;
+	double *key;
+	size_t size;
+} heap;
+
+static void heap_swap(heap *h, size_t a, size_t b)
+{
+	uint32_t t = h->item[a];
+	h->item[a] = h->item[b];
+	h->item[b] = t;
+	h->pos[h->item[a]] = (uint32_t)a;
+	h->pos[h->item[b]] = (uint32_t)b;
+}
+
+static void heap_up(heap *h, size_t i)
+{
+	while (i > 0) {
+		size_t p = (i - 1) / 2;
+		if (h->key[h->item[p]] <= h->key[h->item[i]])
+			break;
+		heap_swap(h, i, p);
+		i = p;
+	}
+}
+
+static void heap_down(heap *h, size_t i)
+{
+	for (;;) {
+		size_t l = 2 * i + 1, r = l + 1, m = i;
+		if (l < h->size && h->key[h->item[l]] < h->key[h->item[m]])
+			m = l;
+		if (r < h->size && h->key[h->item[r]] < h->key[h->item[m]])
+			m = r;
+		if (m == i)
+			return;
+		heap_swap(h, i, m);
+		i = m;
+	}
+}
+
+/* Queues v with key w, or lowers its key to w. */
+static void heap_offer(heap *h, uint32_t v, double w)
+{
+	if (h->pos[v] == NONE) {
+		h->key[v] = w;
+		h->item[h->size] = v;
+		h->pos[v] = (uint32_t)h->size;
+		h->size++;
+		heap_up(h, h->size - 1);
+	} else if (w < h->key[v]) {
+		h->key[v] = w;
+		heap_up(h, h->pos[v]);
+	}
+}
+
+static uint32_t heap_pop(heap *h)
+{
+	uint32_t v = h->item[0];
+	h->size--;
+	if (h->size) {
+		h->item[0] = h->item[h->size];
+		h->pos[h->item[0]] = 0;
+		heap_down(h, 0);
+	}
+	h->pos[v] = NONE;
+	return v;
+}
+
+/* Prim's algorithm from `seed` over its component: each point, when it joins
+ * the tree, takes the sign that agrees with the tree neighbour it joined by. */
+static void prim_propagate(const graph *g, heap *h, uint32_t *parent, unsigned char *done, uint32_t seed,
+			   float *nx, float *ny, float *nz)
+{
+	parent[seed] = seed;
+	heap_offer(h, seed, 0.0);
+	while (h->size) {
+		uint32_t v = heap_pop(h);
+		done[v] = 1;
+		if (parent[v] != v && dot_normals(v, parent[v], nx, ny, nz) < 0.0)
+			flip(v, nx, ny, nz);
+		for (size_t e = g->start[v]; e < g->start[v + 1]; e++) {
+			uint32_t u = g->adj[e];
+			if (done[u])
+				continue;
+			double w = 1.0 - fabs(dot_normals(v, u, nx, ny, nz));
+			if (h->pos[u] == NONE || w < h->key[u])
+				parent[u] = v;
+			heap_offer(h, u, w);
+		}
+	}
+}
+
+/* For every component, the extreme point along each seed direction. */
+static void find_extremes(size_t n, const float *x, const float *y, const float *z, const uint32_t *comp,
+			  uint32_t *ext)
+{
+	for (size_t i = 0; i < n; i++) {
+		uint32_t *e = ext + (size_t)comp[i] * SEED_DIRECTIONS;
+		for (int d = 0; d < SEED_DIRECTIONS; d++) {
+			const float *a = axis_of(d, x, y, z);
+			if (e[d] == NONE || sign_of(d) * a[i] > sign_of(d) * a[e[d]])
+				e[d] = (uint32_t)i;
+		}
+	}
+}
+
+/* Picks the extreme point whose normal is best aligned with its direction
+ * (noise or a ragged boundary can tilt the normal at some extremes) and turns
+ * that normal to point along the direction. */
+static uint32_t choose_seed(const uint32_t *e, float *nx, float *ny, float *nz)
+{
+	int best = 0;
+	double best_align = -1.0;
+	for (int d = 0; d < SEED_DIRECTIONS; d++) {
+		const float *nc = axis_of(d, nx, ny, nz);
+		double align = fabs((double)nc[e[d]]);
+		if (align > best_align) {
+			best_align = align;
+			best = d;
+		}
+	}
+	uint32_t s = e[best];
+	if (sign_of(best) * axis_of(best, nx, ny, nz)[s] < 0.0)
+		flip(s, nx, ny, nz);
+	return s;
+}
+
+dp_status dp_orient_mst(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny,
+			float *nz, const int *nbr, int stride, int k_graph, uint32_t *comp, size_t *ncomp,
+			dp_error *err)
+{
+	*ncomp = 0;
+	if (k_graph < 0 || k_graph > stride)
+		return dp_fail(err, DP_ERR_ARG, "normals: graph degree %d outside the neighbour lists (%d)", k_graph,
+			       stride);
+	if (n >= NONE)
+		return dp_fail(err, DP_ERR_ARG, "normals: %zu points exceed the 32-bit index range", n);
+	if (n == 0)
+		return DP_OK;
+	graph g = {0};
+	heap h = {0};
+	uint32_t *parent = dp_alloc_array(n, sizeof *parent);
+	unsigned char *done = calloc(n, 1);
+	uint32_t *ext = NULL;
+	h.item = dp_alloc_array(n, sizeof *h.item);
+	h.pos = dp_alloc_array(n, sizeof *h.pos);
+	h.key = dp_alloc_array(n, sizeof *h.key);
+	dp_status st = DP_OK;
+	if (!parent || !done || !h.item || !h.pos || !h.key) {
+		st = dp_fail(err, DP_ERR_NOMEM, "normals: out of memory orienting %zu points", n);
+		goto done;
+	}
+	st = graph_build(&g, n, nbr, stride, k_graph, err);
+	if (st != DP_OK)
+		goto done;
+	/* parent doubles as the traversal queue; Prim overwrites it later. */
+	*ncomp = label_components(&g, n, comp, parent);
+	ext = dp_alloc_array(*ncomp * SEED_DIRECTIONS, sizeof *ext);
+	if (!ext) {
+		st = dp_fail(err, DP_ERR_NOMEM, "normals: out of memory for %zu components", *ncomp);
+		goto done;
+	}
+	for (size_t e = 0; e < *ncomp * SEED_DIRECTIONS; e++)
+		ext[e] = NONE;
+	find_extremes(n, x, y, z, comp, ext);
+	for (size_t i = 0; i < n; i++)
+		h.pos[i] = NONE;
+	for (size_t c = 0; c < *ncomp; c++) {
+		uint32_t seed = choose_seed(ext + c * SEED_DIRECTIONS, nx, ny, nz);
+		prim_propagate(&g, &h, parent, done, seed, nx, ny, nz);
+	}
+done:
+	graph_free(&g);
+	free(parent);
+	free(done);
+	free(ext);
+	free(h.item);
+	free(h.pos);
+	free(h.key);
+	return st;
+}
+
+dp_status dp_orient_outward(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny,
+			    float *nz, const double *area, const uint32_t *comp, size_t ncomp, size_t *flipped,
+			    dp_error *err)
+{
+	if (flipped)
+		*flipped = 0;
+	/* Per component: point count, coordinate sums, then the flux. */
+	double *acc = calloc(ncomp ? ncomp * 5 : 1, sizeof *acc);
+	if (!acc)
+		return dp_fail(err, DP_ERR_NOMEM, "normals: out of memory for %zu components", ncomp);
+	for (size_t i = 0; i < n; i++) {
+		double *a = acc + 5 * (size_t)comp[i];
+		a[0] += 1.0;
+		a[1] += x[i];
+		a[2] += y[i];
+		a[3] += z[i];
+	}
+	for (size_t i = 0; i < n; i++) {
+		double *a = acc + 5 * (size_t)comp[i];
+		double dx = x[i] - a[1] / a[0], dy = y[i] - a[2] / a[0], dz = z[i] - a[3] / a[0];
+		a[4] += area[i] * (nx[i] * dx + ny[i] * dy + nz[i] * dz);
+	}
+	for (size_t i = 0; i < n; i++)
+		if (acc[5 * (size_t)comp[i] + 4] < 0.0)
+			flip(i, nx, ny, nz);
+	if (flipped)
+		for (size_t c = 0; c < ncomp; c++)
+			*flipped += acc[5 * c + 4] < 0.0;
+	free(acc);
+	return DP_OK;
+}

@@ -1,0 +1,46 @@
+/* Consistent orientation of unoriented normals (DESIGN §4 "Normals"), the
+ * second half of dp_estimate_normals: a minimum spanning tree over the
+ * symmetric kNN graph with Hoppe's (1992) weight 1 - |n_i·n_j|, propagated
+ * from a seed of known direction in every connected component, then a global
+ * outward check per component. Internal; split out of normals.c so the two
+ * steps can be tested on their own. Reentrant. */
+#ifndef DP_STAGES_ORIENT_H
+#define DP_STAGES_ORIENT_H
+
+#include "dpoints.h"
+
+#include <stdint.h>
+
+/*
+ * Flips unit normals (nx, ny, nz; n each) so that neighbours along the MST
+ * agree in sign. The graph has an edge i–j when j is among the first k_graph
+ * entries of i's neighbour list nbr[i*stride .. i*stride+k_graph) or i among
+ * j's (entries < 0 or equal to i are ignored). In every connected component
+ * the seed is, of the six points with the largest coordinate along ±x, ±y,
+ * ±z, the one whose normal is best aligned with that direction; its normal is
+ * turned to point along it (on a closed surface the outward normal at an
+ * extreme point is the direction itself). comp receives the component of every
+ * point (0 .. *ncomp-1, numbered in order of their lowest point index).
+ * Errors: DP_ERR_ARG (k_graph > stride, n above the 32-bit range), DP_ERR_NOMEM.
+ */
+dp_status dp_orient_mst(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny,
+			float *nz, const int *nbr, int stride, int k_graph, uint32_t *comp, size_t *ncomp,
+			dp_error *err);
+
+/*
+ * The global outward check: flips every normal of each component whose
+ * area-weighted outward flux F = Σ a_i n_i·(p_i - c) is negative, c being the
+ * component's centroid and a_i the area a point stands for (any positive
+ * quantity proportional to it; zero ignores the point). For a closed surface
+ * F is 3 × its volume with outward normals whatever its shape (divergence
+ * theorem), so the check holds for non-convex shapes such as tori and knots;
+ * for an open one-sided scan of a solid the centroid lies behind the scanned
+ * surface, so most of its area faces away from it. F == 0 (a flat sheet, a
+ * lone point) keeps the orientation from the seed. Returns the number of
+ * components flipped in *flipped (may be NULL). Errors: DP_ERR_NOMEM.
+ */
+dp_status dp_orient_outward(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny,
+			    float *nz, const double *area, const uint32_t *comp, size_t ncomp, size_t *flipped,
+			    dp_error *err);
+
+#endif
