@@ -294,7 +294,8 @@ void dp_render_default_colour(size_t index, unsigned char rgb[3]);
 
 /* ------------------------------------------ Shapes, scanning, evaluation */
 /*
- * Owned by host/tools/ (shapes.c, mesh.c, scan.c, eval.c). A triangle mesh is
+ * Owned by host/tools/ (shapes.c, shape_mesh.c, mesh.c, bvh.c, scan.c,
+ * eval.c). A triangle mesh is
  * a dp_cloud whose faces hold 3*nfaces vertex indices, as dp_cloud_read(...,
  * DP_READ_MESH) returns it; meshes made here are closed and wound
  * counter-clockwise seen from outside (outward normals). Every function is
@@ -347,10 +348,12 @@ const char *dp_shape_name(dp_shape_kind kind);
  * DP_ERR_ARG for non-positive or inconsistent dimensions or a resolution
  * outside [3, 4096]. */
 dp_status dp_shape_mesh(const dp_shape *shape, dp_cloud *mesh, dp_error *err);
-/* Exact volume of the analytic solid (knot: pi rho^2 times the curve length). */
+/* Exact volume of the analytic solid (knot: pi rho^2 times the curve length);
+ * NAN for an invalid shape. */
 double dp_shape_volume(const dp_shape *shape);
-/* Unsigned distance from p to the analytic surface (exact; knot: to within
- * 1e-5 s, from a dense polyline of its core curve). */
+/* Unsigned distance from p to the analytic surface (closed form; knot: the
+ * nearest core point is found numerically, to about 1e-9 s). NAN for an
+ * invalid shape. Both distance functions are pure and reentrant. */
 double dp_shape_surface_distance(const dp_shape *shape, const double p[3]);
 /* Distance from p to the ideal meso-skeleton: sphere centre, cylinder axis
  * segment (|z| <= L/2), slab mid-plane rectangle, torus core circle, knot core
@@ -373,7 +376,7 @@ dp_status dp_mesh_sample(const dp_cloud *mesh, size_t n, double noise, uint64_t 
 			 dp_cloud *out, dp_error *err);
 
 typedef enum dp_scan_layout {
-	DP_SCAN_RING = 0,   /* eyes on a circle around the z axis at `elevation_deg` */
+	DP_SCAN_RING = 0,   /* eyes on a circle around the up axis at `elevation_deg` */
 	DP_SCAN_SPHERE = 1  /* eyes spread evenly over a sphere (Fibonacci lattice) */
 } dp_scan_layout;
 
@@ -384,8 +387,9 @@ typedef struct dp_scan_params {
 	double distance;       /* eye distance from the bbox centre, in bbox diagonals (> 0.5); default 2 */
 	int perspective;       /* 1 = pinhole rays from the eye (default); 0 = parallel rays */
 	dp_scan_layout layout; /* default DP_SCAN_RING */
-	double elevation_deg;  /* ring: eye height angle above the xy-plane; default 20 */
-	double azimuth_deg;    /* ring: azimuth of view 0 from +x towards +y; default 0 */
+	int up_axis;           /* the ring's axis and the cameras' up: 0 = x, 1 = y, 2 = z; default 2 */
+	double elevation_deg;  /* ring: eye height angle above the plane across up_axis; default 20 */
+	double azimuth_deg;    /* ring: azimuth of view 0, from axis up+1 towards up+2; default 0 */
 	int normals;           /* output the hit triangle's normal, turned to face the eye; default 1 */
 	uint64_t seed;         /* noise seed; default 1 */
 } dp_scan_params;
@@ -415,7 +419,10 @@ typedef struct dp_eval_params {
 void dp_eval_params_default(dp_eval_params *p);
 
 /* Metrics of a point set against a ground-truth mesh. Every length is in
- * units of the mesh's bbox diagonal. */
+ * units of the mesh's bbox diagonal. Coverage is relative to the points' own
+ * spacing: evenly spread points covering the whole surface score about 1,
+ * uniformly random ones only 1 - exp(-pi 1.5^2 / 4) = 0.83 (Poisson), and
+ * overlapping scan views, denser where they overlap, score lower still. */
 typedef struct dp_eval_result {
 	size_t points, samples;
 	double diagonal;          /* bbox diagonal of the mesh, input units */
@@ -431,7 +438,8 @@ typedef struct dp_eval_result {
 	int has_normals;          /* normal metrics below are valid (0 when points have none) */
 	size_t normals_used;      /* points with a usable (non-zero, finite) normal */
 	double normal_angle_deg;  /* mean angle to the nearest triangle's normal, ignoring sign */
-	double normal_flipped;    /* fraction of normals more than 90 deg from the outward normal */
+	double normal_flipped;    /* fraction more than 90 deg from the face normal (outward if the
+				   * mesh is wound counter-clockwise seen from outside) */
 	double seconds;
 } dp_eval_result;
 

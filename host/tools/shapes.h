@@ -1,0 +1,32 @@
+/* Geometry of the built-in shapes shared by their definitions and distance
+ * functions (shapes.c) and their triangulation (shape_mesh.c). */
+#ifndef DP_TOOLS_SHAPES_H
+#define DP_TOOLS_SHAPES_H
+
+#include "dpoints.h"
+
+#define DP_SHAPE_RESOLUTION_MIN 3
+#define DP_SHAPE_RESOLUTION_MAX 4096
+/* Chair legs sit this many leg radii in from the seat's edges. */
+#define DP_CHAIR_LEG_INSET 1.5
+
+/* DP_ERR_ARG naming the shape when its kind, dimensions or resolution are
+ * out of range (err may be NULL). */
+dp_status dp_shape_check(const dp_shape *s, dp_error *err);
+
+/* The trefoil core of the knot with scale s at parameter t in [0, 2 pi). */
+void dp_trefoil(double s, double t, double p[3]);
+/* Its unit tangent. */
+void dp_trefoil_tangent(double t, double d[3]);
+/* Its length. */
+double dp_trefoil_length(double s);
+
+/* The chair's parts: two boxes and four vertical legs. */
+typedef struct dp_chair_parts {
+	double seat_lo[3], seat_hi[3], back_lo[3], back_hi[3];
+	double leg[4][3]; /* leg centres (the cylinder's mid-height) */
+} dp_chair_parts;
+
+void dp_chair_layout(const dp_shape *s, dp_chair_parts *c);
+
+#endif
