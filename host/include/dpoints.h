@@ -223,6 +223,73 @@ void dp_normal_params_default(dp_normal_params *p);
  */
 dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err);
 
+/* ---------------------------------------------------------------- sinking */
+
+/*
+ * Sinking the consolidated points into anchors (paper 4.1, DESIGN 4.1; owner:
+ * host/stages/sink.c). Every dpoint starts with its inner point q_i on its
+ * surface point p_i; lengths are in units of r (paper Eq. 1, passed in by the
+ * caller). Each iteration, for every unsettled q_i:
+ *  1. settle test: q_i settles when an inner point q_i' (settled or not) within
+ *     settle_radius_r has n_i·n_i' <= cos ω and its surface point is far,
+ *     |p_i - p_i'| > front_factor × settle radius (an opposing front; nearby
+ *     surface points would make creases settle at once);
+ *  2. step t_i: first_step_r × r in the first iteration, then the mean over the
+ *     static neighbourhood P_i (surface points within sigma_p × r, i included)
+ *     of the distance each inner point moved in the previous iteration (settled
+ *     ones count 0); t_i < slow_fraction × the first step settles q_i
+ *     (slow-down: how points that never meet an opposing front stop);
+ *  3. q_i ← q_i - t_i n_i;
+ *  4. cross-bilateral smoothing (Eq. 3): q_i ← Σ θφ q_i' / Σ θφ over P_i, with
+ *     the sunk positions of settled and unsettled neighbours,
+ *     θ = exp(-(|p_i - p_i'|/r)²), φ = exp(-((1 - n_i·n_i')/(1 - cos ω))²).
+ * A point's "move" in step 2 is its sinking step t_i (the paper's "moving
+ * distance"); the smoothing adjusts positions without counting as a move, so
+ * t never exceeds the first step. Counting the smoothing's displacement makes
+ * t grow every iteration on convex shapes, where the smoothing pulls inward
+ * (measured on a sphere of radius 17 r: 0.5 r to 0.8 r in 22 iterations); a
+ * step beyond the settle radius would let fronts cross between two tests.
+ * Settled points never move again: the smoothing pulls unsettled points
+ * towards them, it does not move them (the paper smooths "unsettled inner
+ * points"). Stops when every point has settled or after max_iters iterations.
+ */
+typedef struct dp_sink_params {
+	double sigma_p;          /* static neighbourhood radius σp, in r; default 5 */
+	double settle_radius_r;  /* settle test radius, in r; default 1 (DESIGN 4.1; the paper's σq = 2) */
+	double front_factor;     /* opposing front: surface points farther apart than this × settle radius; default 2 */
+	double omega_deg;        /* ω, in degrees, in (0, 180); default 45 */
+	double first_step_r;     /* t of the first iteration, in r; default 0.5 */
+	double slow_fraction;    /* settle when t_i < slow_fraction × first step, in [0, 1); default 0.5 */
+	int max_iters;           /* iteration cap, >= 1; default 200 */
+} dp_sink_params;
+
+void dp_sink_params_default(dp_sink_params *p);
+
+typedef struct dp_sink_stats {
+	int iterations;          /* iterations run */
+	size_t settled_front;    /* settled by the front test */
+	size_t settled_slow;     /* settled by slow-down */
+	size_t unsettled;        /* still moving when max_iters stopped the loop */
+	double seconds;
+	double pair_evaluations; /* neighbour pairs visited by the operators */
+} dp_sink_stats;
+
+/*
+ * Sinks the points of `surface` (S, with outward unit normals) and writes the
+ * anchors H to `anchors`: the inner points, in the same order and count as S,
+ * with S's normals copied (an inner point carries its surface point's normal).
+ * Points still unsettled at the cap are written where they stopped and counted
+ * in stats->unsettled. `anchors` is overwritten, not freed first, and owned by
+ * the caller on success (dp_cloud_free); zeroed on error. params NULL means
+ * defaults; stats may be NULL. Uses only ctx (one thread at a time per
+ * context); reports progress as ("sink", iteration, settled points).
+ * Errors: DP_ERR_ARG (NULL arguments, no normals, r not a positive number,
+ * non-finite points or normals, parameters out of range), DP_ERR_EMPTY (no
+ * points), DP_ERR_NOMEM, DP_ERR_CL from the device.
+ */
+dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *p, dp_cloud *anchors,
+		  dp_sink_stats *stats, dp_error *err);
+
 /* -------------------------------------------------------------- rendering */
 
 /*

@@ -1,0 +1,338 @@
+/* Sinking (paper 4.1, DESIGN 4.1): inner points start on their surface points
+ * and move against the normals, smoothed over the static neighbourhood P_i,
+ * until they meet an opposing front or slow down. The settled inner points are
+ * the anchors H. The math is stated once, in dpoints.h beside dp_sink; the
+ * neighbour sums are the operators of backend/sink_ops.h. */
+#include "backend/sink_ops.h"
+#include "core/common.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void dp_sink_params_default(dp_sink_params *p)
+{
+	memset(p, 0, sizeof *p);
+	p->sigma_p = 5.0;
+	p->settle_radius_r = 1.0;
+	p->front_factor = 2.0;
+	p->omega_deg = 45.0;
+	p->first_step_r = 0.5;
+	p->slow_fraction = 0.5;
+	p->max_iters = 200;
+}
+
+static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
+{
+	if (!(r > 0.0 && isfinite(r)))
+		return dp_fail(err, DP_ERR_ARG, "sink: spacing r = %g is not a positive number", r);
+	if (!(p->sigma_p > 0.0 && isfinite(p->sigma_p)))
+		return dp_fail(err, DP_ERR_ARG, "sink: sigma_p = %g is not positive", p->sigma_p);
+	if (!(p->settle_radius_r > 0.0 && isfinite(p->settle_radius_r)))
+		return dp_fail(err, DP_ERR_ARG, "sink: settle radius %g r is not positive", p->settle_radius_r);
+	if (!(p->front_factor >= 0.0 && isfinite(p->front_factor)))
+		return dp_fail(err, DP_ERR_ARG, "sink: front factor %g is not a finite number >= 0", p->front_factor);
+	if (!(p->omega_deg > 0.0 && p->omega_deg < 180.0))
+		return dp_fail(err, DP_ERR_ARG, "sink: omega = %g degrees is not in (0, 180)", p->omega_deg);
+	if (!(p->first_step_r > 0.0 && isfinite(p->first_step_r)))
+		return dp_fail(err, DP_ERR_ARG, "sink: first step %g r is not positive", p->first_step_r);
+	if (!(p->slow_fraction >= 0.0 && p->slow_fraction < 1.0))
+		return dp_fail(err, DP_ERR_ARG, "sink: slow fraction %g is not in [0, 1)", p->slow_fraction);
+	if (p->max_iters < 1)
+		return dp_fail(err, DP_ERR_ARG, "sink: max_iters = %d is not >= 1", p->max_iters);
+	/* Lengths go to the device as floats. */
+	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))
+		return dp_fail(err, DP_ERR_ARG, "sink: radii of r = %g overflow a float", r);
+	return DP_OK;
+}
+
+static dp_status check_surface(const dp_cloud *s, dp_error *err)
+{
+	if (s->n == 0)
+		return dp_fail(err, DP_ERR_EMPTY, "sink: the surface has no points");
+	if (!s->x || !s->y || !s->z)
+		return dp_fail(err, DP_ERR_ARG, "sink: the surface has no position arrays");
+	if (!s->nx || !s->ny || !s->nz)
+		return dp_fail(err, DP_ERR_ARG, "sink: the surface points have no normals (estimate them first)");
+	for (size_t i = 0; i < s->n; i++) {
+		if (!isfinite(s->x[i]) || !isfinite(s->y[i]) || !isfinite(s->z[i]))
+			return dp_fail(err, DP_ERR_ARG, "sink: surface point %zu has a non-finite coordinate", i);
+		if (!isfinite(s->nx[i]) || !isfinite(s->ny[i]) || !isfinite(s->nz[i]))
+			return dp_fail(err, DP_ERR_ARG, "sink: surface point %zu has a non-finite normal", i);
+	}
+	return DP_OK;
+}
+
+/* Per-point float arrays, carved from one block. Suffix _q: the inner grid's
+ * sorted order; _s: the surface grid's sorted order; c_: compacted per
+ * unsettled point (the queries of one pass). */
+enum {
+	SUNK_X, SUNK_Y, SUNK_Z,     /* inner points after the step, caller order */
+	MOVE,                       /* step taken last iteration (settled: 0), caller order */
+	MOVE_S,
+	SURF_X_Q, SURF_Y_Q, SURF_Z_Q, NORM_X_Q, NORM_Y_Q, NORM_Z_Q,
+	NORM_X_S, NORM_Y_S, NORM_Z_S, SUNK_X_S, SUNK_Y_S, SUNK_Z_S,
+	C_QX, C_QY, C_QZ, C_PX, C_PY, C_PZ, C_NX, C_NY, C_NZ,
+	C_STEP, C_OUT_X, C_OUT_Y, C_OUT_Z, C_OUT_W,
+	NARRAYS
+};
+
+typedef struct sink_state {
+	size_t n;
+	const dp_cloud *s;
+	float *q[3];          /* the inner points: the anchors' position arrays */
+	float *a[NARRAYS];
+	float *block;
+	unsigned char *settled;
+	uint32_t *list;       /* the unsettled points of the current pass */
+	size_t nlist;
+	dp_grid inner, surface;
+} sink_state;
+
+static void collect_unsettled(sink_state *st)
+{
+	st->nlist = 0;
+	for (size_t i = 0; i < st->n; i++)
+		if (!st->settled[i])
+			st->list[st->nlist++] = (uint32_t)i;
+}
+
+/* Copies per-point arrays into the compacted query slots of the list. */
+static void compact(const sink_state *st, const float *const src[3], int dst)
+{
+	for (size_t j = 0; j < st->nlist; j++)
+		for (int c = 0; c < 3; c++)
+			st->a[dst + c][j] = src[c][st->list[j]];
+}
+
+static void compact_surface(const sink_state *st)
+{
+	const float *p[3] = {st->s->x, st->s->y, st->s->z}, *nrm[3] = {st->s->nx, st->s->ny, st->s->nz};
+	compact(st, p, C_PX);
+	compact(st, nrm, C_NX);
+}
+
+/* Settle test of every unsettled point; returns how many settled. */
+static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, float far_d2, float cos_w,
+				 size_t *settled, dp_error *err)
+{
+	dp_status rc = dp_grid_build(&st->inner, st->n, st->q[0], st->q[1], st->q[2], radius, err);
+	if (rc != DP_OK)
+		return rc;
+	const float *attrs[6] = {st->s->x, st->s->y, st->s->z, st->s->nx, st->s->ny, st->s->nz};
+	for (int c = 0; c < 6; c++)
+		dp_grid_gather(&st->inner, attrs[c], st->a[SURF_X_Q + c]);
+	const float *q[3] = {st->q[0], st->q[1], st->q[2]};
+	compact(st, q, C_QX);
+	compact_surface(st);
+	dp_sink_front_args fa = {
+		.inner = &st->inner,
+		.sx = st->a[SURF_X_Q], .sy = st->a[SURF_Y_Q], .sz = st->a[SURF_Z_Q],
+		.nx = st->a[NORM_X_Q], .ny = st->a[NORM_Y_Q], .nz = st->a[NORM_Z_Q],
+		.nq = st->nlist,
+		.qx = st->a[C_QX], .qy = st->a[C_QY], .qz = st->a[C_QZ],
+		.px = st->a[C_PX], .py = st->a[C_PY], .pz = st->a[C_PZ],
+		.qnx = st->a[C_NX], .qny = st->a[C_NY], .qnz = st->a[C_NZ],
+		.radius = radius, .far_d2 = far_d2, .min_dot = st->a[C_OUT_X],
+	};
+	rc = dp_op_sink_front(ctx, &fa, err);
+	if (rc != DP_OK)
+		return rc;
+	size_t kept = 0;
+	for (size_t j = 0; j < st->nlist; j++) {
+		if (st->a[C_OUT_X][j] <= cos_w)
+			st->settled[st->list[j]] = 1;
+		else
+			st->list[kept++] = st->list[j];
+	}
+	*settled = st->nlist - kept;
+	st->nlist = kept;
+	return DP_OK;
+}
+
+/* Step lengths t of the unsettled points into C_STEP (compacted); points whose
+ * step falls below `slow` settle and leave the list. */
+static dp_status steps(dp_context *ctx, sink_state *st, int first_iteration, float first, float slow,
+		       float radius, size_t *settled, dp_error *err)
+{
+	*settled = 0;
+	if (first_iteration) {
+		for (size_t j = 0; j < st->nlist; j++)
+			st->a[C_STEP][j] = first;
+		return DP_OK;
+	}
+	dp_grid_gather(&st->surface, st->a[MOVE], st->a[MOVE_S]);
+	compact_surface(st);
+	dp_sink_step_args sa = {
+		.surface = &st->surface, .move = st->a[MOVE_S], .nq = st->nlist,
+		.px = st->a[C_PX], .py = st->a[C_PY], .pz = st->a[C_PZ],
+		.radius = radius, .mean = st->a[C_OUT_X],
+	};
+	dp_status rc = dp_op_sink_step(ctx, &sa, err);
+	if (rc != DP_OK)
+		return rc;
+	size_t kept = 0;
+	for (size_t j = 0; j < st->nlist; j++) {
+		float t = st->a[C_OUT_X][j];
+		if (t < slow) {
+			st->settled[st->list[j]] = 1;
+			continue;
+		}
+		st->a[C_STEP][kept] = t;
+		st->list[kept++] = st->list[j];
+	}
+	*settled = st->nlist - kept;
+	st->nlist = kept;
+	return DP_OK;
+}
+
+/* Sinks the listed points by their steps, smooths them over P_i and records
+ * every point's move. */
+static dp_status sink_and_smooth(dp_context *ctx, sink_state *st, float radius, float inv_r2, float phi_scale,
+				 dp_error *err)
+{
+	const dp_cloud *s = st->s;
+	float *b[3] = {st->a[SUNK_X], st->a[SUNK_Y], st->a[SUNK_Z]};
+	for (int c = 0; c < 3; c++)
+		memcpy(b[c], st->q[c], st->n * sizeof(float));
+	for (size_t j = 0; j < st->nlist; j++) {
+		uint32_t i = st->list[j];
+		float t = st->a[C_STEP][j];
+		b[0][i] -= t * s->nx[i];
+		b[1][i] -= t * s->ny[i];
+		b[2][i] -= t * s->nz[i];
+	}
+	for (int c = 0; c < 3; c++)
+		dp_grid_gather(&st->surface, b[c], st->a[SUNK_X_S + c]);
+	const float *bc[3] = {b[0], b[1], b[2]};
+	compact(st, bc, C_QX);
+	compact_surface(st);
+	dp_sink_smooth_args ma = {
+		.surface = &st->surface,
+		.nx = st->a[NORM_X_S], .ny = st->a[NORM_Y_S], .nz = st->a[NORM_Z_S],
+		.ix = st->a[SUNK_X_S], .iy = st->a[SUNK_Y_S], .iz = st->a[SUNK_Z_S],
+		.nq = st->nlist,
+		.px = st->a[C_PX], .py = st->a[C_PY], .pz = st->a[C_PZ],
+		.qnx = st->a[C_NX], .qny = st->a[C_NY], .qnz = st->a[C_NZ],
+		.qx = st->a[C_QX], .qy = st->a[C_QY], .qz = st->a[C_QZ],
+		.radius = radius, .inv_r2 = inv_r2, .phi_scale = phi_scale,
+		.out_x = st->a[C_OUT_X], .out_y = st->a[C_OUT_Y], .out_z = st->a[C_OUT_Z], .out_w = st->a[C_OUT_W],
+	};
+	dp_status rc = dp_op_sink_smooth(ctx, &ma, err);
+	if (rc != DP_OK)
+		return rc;
+	/* The move that sets the neighbours' next step is the sinking step alone
+	 * (dpoints.h says why); settled points count 0. */
+	memset(st->a[MOVE], 0, st->n * sizeof(float));
+	for (size_t j = 0; j < st->nlist; j++) {
+		uint32_t i = st->list[j];
+		float w = st->a[C_OUT_W][j];
+		/* w >= 1 whenever p_i is in its own neighbourhood (its own weight
+		 * is 1 for a unit normal); a zero normal can underflow it, and then
+		 * the point keeps its sunk position. */
+		for (int c = 0; c < 3; c++)
+			st->q[c][i] = b[c][i] + (w > 0.0f ? st->a[C_OUT_X + c][j] / w : 0.0f);
+		st->a[MOVE][i] = st->a[C_STEP][j];
+	}
+	return DP_OK;
+}
+
+static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_params *p, dp_sink_stats *stats,
+		     dp_error *err)
+{
+	float static_radius = (float)(p->sigma_p * r);
+	float settle_radius = (float)(p->settle_radius_r * r);
+	float far = (float)(p->front_factor * p->settle_radius_r * r);
+	float first = (float)(p->first_step_r * r), slow = (float)(p->slow_fraction * p->first_step_r * r);
+	double cos_w = cos(p->omega_deg * M_PI / 180.0);
+	float inv_r2 = (float)(1.0 / (r * r)), phi_scale = (float)(1.0 / (1.0 - cos_w));
+	const dp_cloud *s = st->s;
+
+	dp_status rc = dp_grid_build(&st->surface, st->n, s->x, s->y, s->z, static_radius, err);
+	if (rc != DP_OK)
+		return rc;
+	const float *nrm[3] = {s->nx, s->ny, s->nz};
+	for (int c = 0; c < 3; c++)
+		dp_grid_gather(&st->surface, nrm[c], st->a[NORM_X_S + c]);
+
+	size_t settled_total = 0;
+	for (int it = 1; it <= p->max_iters; it++) {
+		collect_unsettled(st);
+		if (st->nlist == 0)
+			break;
+		size_t by_front, by_slow;
+		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, &by_front, err);
+		if (rc == DP_OK)
+			rc = steps(ctx, st, it == 1, first, slow, static_radius, &by_slow, err);
+		if (rc == DP_OK)
+			rc = sink_and_smooth(ctx, st, static_radius, inv_r2, phi_scale, err);
+		if (rc != DP_OK)
+			return rc;
+		stats->iterations = it;
+		stats->settled_front += by_front;
+		stats->settled_slow += by_slow;
+		settled_total += by_front + by_slow;
+		dp_progress(ctx, "sink", it, (double)settled_total);
+	}
+	stats->unsettled = st->n - settled_total;
+	return DP_OK;
+}
+
+dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *params,
+		  dp_cloud *anchors, dp_sink_stats *stats, dp_error *err)
+{
+	if (!anchors)
+		return dp_fail(err, DP_ERR_ARG, "sink: no output cloud");
+	memset(anchors, 0, sizeof *anchors);
+	if (!ctx || !surface)
+		return dp_fail(err, DP_ERR_ARG, "sink: no context or no surface points");
+	dp_sink_params defaults;
+	if (!params) {
+		dp_sink_params_default(&defaults);
+		params = &defaults;
+	}
+	dp_status rc = check_params(params, r, err);
+	if (rc == DP_OK)
+		rc = check_surface(surface, err);
+	if (rc != DP_OK)
+		return rc;
+
+	double t0 = dp_seconds(), pairs0 = ctx->pair_evaluations;
+	dp_sink_stats local = {0};
+	sink_state st = {.n = surface->n, .s = surface};
+	rc = dp_cloud_alloc(anchors, st.n, 1, err);
+	if (rc != DP_OK)
+		return rc;
+	const float *src[6] = {surface->x, surface->y, surface->z, surface->nx, surface->ny, surface->nz};
+	float *dst[6] = {anchors->x, anchors->y, anchors->z, anchors->nx, anchors->ny, anchors->nz};
+	for (int c = 0; c < 6; c++)
+		memcpy(dst[c], src[c], st.n * sizeof(float));
+	st.q[0] = anchors->x;
+	st.q[1] = anchors->y;
+	st.q[2] = anchors->z;
+	st.block = dp_alloc_array(st.n, NARRAYS * sizeof(float));
+	st.settled = calloc(st.n, 1);
+	st.list = dp_alloc_array(st.n, sizeof *st.list);
+	if (!st.block || !st.settled || !st.list) {
+		rc = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", st.n);
+	} else {
+		for (int k = 0; k < NARRAYS; k++)
+			st.a[k] = st.block + (size_t)k * st.n;
+		memset(st.a[MOVE], 0, st.n * sizeof(float));
+		rc = run(ctx, &st, r, params, &local, err);
+	}
+	free(st.block);
+	free(st.settled);
+	free(st.list);
+	dp_grid_free(&st.inner);
+	dp_grid_free(&st.surface);
+	if (rc != DP_OK) {
+		dp_cloud_free(anchors);
+		return rc;
+	}
+	local.seconds = dp_seconds() - t0;
+	local.pair_evaluations = ctx->pair_evaluations - pairs0;
+	if (stats)
+		*stats = local;
+	return DP_OK;
+}

@@ -1,0 +1,479 @@
+/* Behaviour of the sinking stage (DESIGN 4.1) on shapes with a known
+ * meso-skeleton: evenly spaced exact samples (like WLOP's output) with exact
+ * outward normals and a little positional noise. The anchors must gather near
+ * the skeleton, and points facing a missing region must stop inside the
+ * shape. Every test prints what it measures. */
+#include "testkit.h"
+
+#include "knn/knn.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+typedef enum kind { SPHERE, HEMISPHERE, CAP, CYLINDER, TORUS } kind;
+
+/* radius: sphere/hemisphere/cap radius, cylinder radius, torus core radius;
+ * length: cylinder length; tube: torus tube radius; cap_deg: half-angle of a
+ * spherical cap around +z. */
+typedef struct shape {
+	kind kind;
+	double radius, length, tube, cap_deg;
+} shape;
+
+/* Positional noise, per coordinate, in units of the minimum sample distance:
+ * WLOP leaves about this much. */
+#define NOISE 0.1
+
+static double shape_area(const shape *s)
+{
+	switch (s->kind) {
+	case SPHERE:
+		return 4.0 * M_PI * s->radius * s->radius;
+	case HEMISPHERE:
+		return 2.0 * M_PI * s->radius * s->radius;
+	case CAP:
+		return 2.0 * M_PI * s->radius * s->radius * (1.0 - cos(s->cap_deg * M_PI / 180.0));
+	case CYLINDER:
+		return 2.0 * M_PI * s->radius * (s->length + s->radius);
+	case TORUS:
+		return 4.0 * M_PI * M_PI * s->radius * s->tube;
+	}
+	return 0.0;
+}
+
+static double shape_extent(const shape *s)
+{
+	switch (s->kind) {
+	case CYLINDER:
+		return fmax(s->radius, 0.5 * s->length);
+	case TORUS:
+		return s->radius + s->tube;
+	default:
+		return s->radius;
+	}
+}
+
+static void unit_gaussian(dp_rng *rng, double v[3])
+{
+	double len;
+	do {
+		for (int c = 0; c < 3; c++)
+			v[c] = dp_rng_normal(rng);
+		len = sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+	} while (len < 1e-6);
+	for (int c = 0; c < 3; c++)
+		v[c] /= len;
+}
+
+/* One area-uniform sample of the surface with its outward normal. */
+static void sample_surface(const shape *s, dp_rng *rng, double p[3], double n[3])
+{
+	switch (s->kind) {
+	case SPHERE:
+	case HEMISPHERE:
+	case CAP:
+		for (;;) {
+			unit_gaussian(rng, n);
+			if (s->kind == HEMISPHERE)
+				n[2] = fabs(n[2]);
+			if (s->kind != CAP || n[2] >= cos(s->cap_deg * M_PI / 180.0))
+				break;
+		}
+		for (int c = 0; c < 3; c++)
+			p[c] = s->radius * n[c];
+		return;
+	case CYLINDER: {
+		double side = s->length, cap = 0.5 * s->radius; /* areas / (2πR) */
+		double u = dp_rng_uniform(rng) * (side + 2.0 * cap);
+		double phi = 2.0 * M_PI * dp_rng_uniform(rng);
+		if (u < side) {
+			n[0] = cos(phi);
+			n[1] = sin(phi);
+			n[2] = 0.0;
+			p[0] = s->radius * n[0];
+			p[1] = s->radius * n[1];
+			p[2] = (dp_rng_uniform(rng) - 0.5) * s->length;
+		} else {
+			double rho = s->radius * sqrt(dp_rng_uniform(rng));
+			n[0] = n[1] = 0.0;
+			n[2] = u < side + cap ? 1.0 : -1.0;
+			p[0] = rho * cos(phi);
+			p[1] = rho * sin(phi);
+			p[2] = 0.5 * s->length * n[2];
+		}
+		return;
+	}
+	case TORUS:
+		for (;;) {
+			double u = 2.0 * M_PI * dp_rng_uniform(rng), v = 2.0 * M_PI * dp_rng_uniform(rng);
+			/* The area element is proportional to R + ρ cos v. */
+			if (dp_rng_uniform(rng) * (s->radius + s->tube) > s->radius + s->tube * cos(v))
+				continue;
+			n[0] = cos(v) * cos(u);
+			n[1] = cos(v) * sin(u);
+			n[2] = sin(v);
+			p[0] = (s->radius + s->tube * cos(v)) * cos(u);
+			p[1] = (s->radius + s->tube * cos(v)) * sin(u);
+			p[2] = s->tube * sin(v);
+			return;
+		}
+	}
+}
+
+/* The minimum distance of dart throwing that gives about `count` samples. */
+static double dmin_for(const shape *s, size_t count)
+{
+	return sqrt(0.7 * shape_area(s) / (double)count);
+}
+
+/* Dart throwing: candidates closer than `dmin` to an accepted sample are
+ * rejected, which gives the even spacing of WLOP's output (random samples
+ * would have a much smaller r for the same density). Buckets of side dmin
+ * find the accepted samples near a candidate. */
+static void sample_shape(const shape *s, double dmin, uint64_t seed, dp_cloud *out)
+{
+	const size_t candidates = 8 * (size_t)(0.7 * shape_area(s) / (dmin * dmin));
+	/* Two cells of margin: a point on the extent, rounded down, still has
+	 * a cell on each side. */
+	double ext = shape_extent(s) + 2.0 * dmin;
+	int dim = (int)ceil(2.0 * ext / dmin) + 1;
+	size_t ncells = (size_t)dim * dim * dim;
+	int *head = malloc(ncells * sizeof *head), *next = malloc(candidates * sizeof *next);
+	double *pts = malloc(6 * candidates * sizeof *pts);
+	assert_non_null(head);
+	assert_non_null(next);
+	assert_non_null(pts);
+	for (size_t c = 0; c < ncells; c++)
+		head[c] = -1;
+	dp_rng rng;
+	dp_rng_seed(&rng, seed);
+	size_t n = 0;
+	for (size_t t = 0; t < candidates; t++) {
+		double p[3] = {0, 0, 0}, nrm[3] = {0, 0, 0};
+		sample_surface(s, &rng, p, nrm);
+		int cell[3];
+		for (int c = 0; c < 3; c++)
+			cell[c] = (int)((p[c] + ext) / dmin);
+		int ok = 1;
+		for (int dz = -1; dz <= 1 && ok; dz++)
+			for (int dy = -1; dy <= 1 && ok; dy++)
+				for (int dx = -1; dx <= 1 && ok; dx++) {
+					size_t id = ((size_t)(cell[2] + dz) * dim + (size_t)(cell[1] + dy)) * dim +
+						    (size_t)(cell[0] + dx);
+					for (int k = head[id]; k >= 0 && ok; k = next[k]) {
+						double d2 = 0.0;
+						for (int c = 0; c < 3; c++)
+							d2 += (p[c] - pts[6 * k + c]) * (p[c] - pts[6 * k + c]);
+						ok = d2 >= dmin * dmin;
+					}
+				}
+		if (!ok)
+			continue;
+		size_t id = ((size_t)cell[2] * dim + (size_t)cell[1]) * dim + (size_t)cell[0];
+		for (int c = 0; c < 3; c++) {
+			pts[6 * n + c] = p[c];
+			pts[6 * n + 3 + c] = nrm[c];
+		}
+		next[n] = head[id];
+		head[id] = (int)n;
+		n++;
+	}
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_alloc(out, n, 1, &err), DP_OK);
+	for (size_t i = 0; i < n; i++) {
+		out->x[i] = (float)(pts[6 * i] + NOISE * dmin * dp_rng_normal(&rng));
+		out->y[i] = (float)(pts[6 * i + 1] + NOISE * dmin * dp_rng_normal(&rng));
+		out->z[i] = (float)(pts[6 * i + 2] + NOISE * dmin * dp_rng_normal(&rng));
+		out->nx[i] = (float)pts[6 * i + 3];
+		out->ny[i] = (float)pts[6 * i + 4];
+		out->nz[i] = (float)pts[6 * i + 5];
+	}
+	free(head);
+	free(next);
+	free(pts);
+}
+
+static double spacing(const dp_cloud *c)
+{
+	double r;
+	dp_error err = {0};
+	assert_int_equal(dp_mean_spacing(c->n, c->x, c->y, c->z, &r, &err), DP_OK);
+	return r;
+}
+
+static void run_sink(dp_context *ctx, const dp_cloud *s, double r, dp_cloud *anchors, dp_sink_stats *stats)
+{
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	dp_error err = {0};
+	if (dp_sink(ctx, s, r, &p, anchors, stats, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	assert_int_equal(anchors->n, s->n);
+	for (size_t i = 0; i < s->n; i++)
+		assert_true(anchors->nx[i] == s->nx[i] && anchors->ny[i] == s->ny[i] && anchors->nz[i] == s->nz[i]);
+	printf("  %zu points, r = %.4g: %d iterations, settled %zu by front + %zu by slow-down, %zu unsettled, "
+	       "%.2f s, %.3g pairs\n",
+	       s->n, r, stats->iterations, stats->settled_front, stats->settled_slow, stats->unsettled,
+	       stats->seconds, stats->pair_evaluations);
+}
+
+static double norm3(double x, double y, double z)
+{
+	return sqrt(x * x + y * y + z * z);
+}
+
+static void test_sphere(void **state)
+{
+	(void)state;
+	shape s = {.kind = SPHERE, .radius = 1.0};
+	dp_cloud c, h;
+	sample_shape(&s, dmin_for(&s, 3000), 1, &c);
+	double r = spacing(&c);
+	dp_sink_stats st;
+	run_sink(tk_cl_context(), &c, r, &h, &st);
+	double sum = 0.0, worst = 0.0;
+	for (size_t i = 0; i < h.n; i++) {
+		double d = norm3(h.x[i], h.y[i], h.z[i]);
+		sum += d;
+		worst = fmax(worst, d);
+	}
+	double mean = sum / (double)h.n;
+	printf("  sphere R = %.1f r: anchors' mean distance to the centre %.4f R (%.2f r), largest %.4f R\n",
+	       s.radius / r, mean / s.radius, mean / r, worst / s.radius);
+	assert_int_equal(st.unsettled, 0);
+	assert_true(mean < 0.15 * s.radius);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+/* Flat caps: the grassfire medial axis of each end is a cone from the rim to
+ * the axis, and the slow-down spreading from where the cap and side fronts
+ * meet makes it about twice as long (measured: side anchors 0.76, 0.56, 0.35,
+ * 0.17 R from the axis in the four half-R slices next to an end, ~1 r
+ * beyond). The mean over all anchors therefore depends on the length: 0.33 R
+ * at L = 8 R, 0.28-0.29 R at 10 R, 0.26-0.27 R at 12 R (R = 8 r). */
+static void test_cylinder(void **state)
+{
+	(void)state;
+	shape s = {.kind = CYLINDER, .radius = 1.0, .length = 12.0};
+	dp_cloud c, h;
+	sample_shape(&s, dmin_for(&s, 4000), 2, &c);
+	double r = spacing(&c);
+	dp_sink_stats st;
+	run_sink(tk_cl_context(), &c, r, &h, &st);
+	double sum = 0.0, sum_mid = 0.0, worst = 0.0;
+	size_t mid = 0;
+	for (size_t i = 0; i < h.n; i++) {
+		double d = hypot(h.x[i], h.y[i]);
+		sum += d;
+		worst = fmax(worst, d);
+		if (fabs(h.z[i]) < 0.5 * s.length - 2.0 * s.radius) {
+			sum_mid += d;
+			mid++;
+		}
+	}
+	double mean = sum / (double)h.n;
+	printf("  cylinder R = %.1f r, L = %.0f R: mean axis distance %.4f R (%.2f r); %.4f R (%.2f r) farther "
+	       "than 2 R from the ends; largest %.3f R\n",
+	       s.radius / r, s.length / s.radius, mean / s.radius, mean / r, sum_mid / (double)mid / s.radius,
+	       sum_mid / (double)mid / r, worst / s.radius);
+	assert_int_equal(st.unsettled, 0);
+	assert_true(mean < 0.3 * s.radius);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+static void test_torus(void **state)
+{
+	(void)state;
+	/* dmin = 0.17 makes the tube about 5.5 r thick, as in DESIGN 4.1. */
+	shape s = {.kind = TORUS, .radius = 3.0, .tube = 1.0};
+	dp_cloud c, h;
+	sample_shape(&s, 0.17, 3, &c);
+	double r = spacing(&c);
+	dp_sink_stats st;
+	run_sink(tk_cl_context(), &c, r, &h, &st);
+	double sum = 0.0, worst = 0.0;
+	size_t within = 0;
+	for (size_t i = 0; i < h.n; i++) {
+		double d = hypot(hypot(h.x[i], h.y[i]) - s.radius, h.z[i]);
+		sum += d;
+		worst = fmax(worst, d);
+		within += d <= r;
+	}
+	double mean = sum / (double)h.n;
+	printf("  torus tube %.2f r: anchors' mean distance to the core circle %.3f r, %.1f%% within 1 r, "
+	       "largest %.2f r\n",
+	       s.tube / r, mean / r, 100.0 * (double)within / (double)h.n, worst / r);
+	assert_int_equal(st.unsettled, 0);
+	assert_true(mean < r);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+/* One-sided: only the upper half of a sphere, or a shallow cap of it. Points
+ * facing the missing half must stop inside the sphere. */
+static void one_sided(shape s, size_t target, uint64_t seed)
+{
+	dp_cloud c, h;
+	sample_shape(&s, dmin_for(&s, target), seed, &c);
+	double r = spacing(&c);
+	dp_sink_stats st;
+	run_sink(tk_cl_context(), &c, r, &h, &st);
+	double sum = 0.0, worst = 0.0, lowest = INFINITY;
+	for (size_t i = 0; i < h.n; i++) {
+		double d = norm3(h.x[i], h.y[i], h.z[i]);
+		sum += d;
+		worst = fmax(worst, d);
+		lowest = fmin(lowest, h.z[i]);
+	}
+	printf("  %s (R = %.1f r): anchors' mean distance to the centre %.4f R, largest %.4f R, lowest z %.4f R\n",
+	       s.kind == CAP ? "cap" : "hemisphere", s.radius / r, sum / (double)h.n / s.radius,
+	       worst / s.radius, lowest / s.radius);
+	assert_int_equal(st.unsettled, 0);
+	assert_true(worst < s.radius);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+static void test_hemisphere(void **state)
+{
+	(void)state;
+	one_sided((shape){.kind = HEMISPHERE, .radius = 1.0}, 2500, 4);
+}
+
+static void test_shallow_cap(void **state)
+{
+	(void)state;
+	one_sided((shape){.kind = CAP, .radius = 1.0, .cap_deg = 30.0}, 2500, 5);
+}
+
+/* The whole stage gives the same anchors on both backends (small input: the
+ * reference is slow). Sums in a different order could flip a settle decision
+ * that sits exactly on its threshold, which would show as a difference of a
+ * whole step or more; on this input none does. */
+static void test_backends_agree(void **state)
+{
+	(void)state;
+	shape s = {.kind = SPHERE, .radius = 1.0};
+	dp_cloud c, a, b;
+	sample_shape(&s, dmin_for(&s, 700), 6, &c);
+	double r = spacing(&c);
+	dp_sink_stats sa, sb;
+	run_sink(tk_ref_context(), &c, r, &a, &sa);
+	run_sink(tk_cl_context(), &c, r, &b, &sb);
+	size_t differ = 0;
+	double worst = 0.0;
+	for (size_t i = 0; i < c.n; i++) {
+		double d = norm3(a.x[i] - b.x[i], a.y[i] - b.y[i], a.z[i] - b.z[i]);
+		worst = fmax(worst, d);
+		differ += d > 1e-3 * r;
+	}
+	printf("  ref vs cl: %zu of %zu anchors differ by more than 1e-3 r, largest difference %.3g r\n", differ,
+	       c.n, worst / r);
+	assert_int_equal(sa.iterations, sb.iterations);
+	assert_true(differ == 0);
+	dp_cloud_free(&c);
+	dp_cloud_free(&a);
+	dp_cloud_free(&b);
+}
+
+/* The iteration cap stops the loop and reports the points still moving. */
+static void test_cap_reported(void **state)
+{
+	(void)state;
+	shape s = {.kind = SPHERE, .radius = 1.0};
+	dp_cloud c, h;
+	sample_shape(&s, dmin_for(&s, 700), 7, &c);
+	double r = spacing(&c);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	p.max_iters = 3;
+	dp_sink_stats st;
+	dp_error err = {0};
+	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &h, &st, &err), DP_OK);
+	assert_int_equal(st.iterations, 3);
+	assert_int_equal(st.unsettled, c.n);
+	assert_int_equal(st.settled_front + st.settled_slow, 0);
+	/* Three first-size steps along -n, give or take the smoothing. */
+	double sum = 0.0;
+	for (size_t i = 0; i < c.n; i++)
+		sum += (c.x[i] - h.x[i]) * c.nx[i] + (c.y[i] - h.y[i]) * c.ny[i] + (c.z[i] - h.z[i]) * c.nz[i];
+	double depth = sum / (double)c.n / r;
+	printf("  after 3 iterations: mean depth %.3f r\n", depth);
+	assert_true(fabs(depth - 3.0 * p.first_step_r) < 0.5 * p.first_step_r);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+static void expect_error(const dp_cloud *c, double r, const dp_sink_params *p, dp_status want, const char *what)
+{
+	dp_cloud h = {.n = 99};
+	dp_error err = {0};
+	dp_status got = dp_sink(tk_ref_context(), c, r, p, &h, NULL, &err);
+	if (got != want)
+		fail_msg("%s: status %d, want %d (%s)", what, (int)got, (int)want, err.message);
+	printf("  %s: %s\n", what, err.message);
+	assert_true(strncmp(err.message, "sink: ", 6) == 0);
+	assert_true(h.n == 0 && h.x == NULL && h.nx == NULL);
+}
+
+static void test_bad_input(void **state)
+{
+	(void)state;
+	shape s = {.kind = SPHERE, .radius = 1.0};
+	dp_cloud c;
+	sample_shape(&s, dmin_for(&s, 200), 8, &c);
+	double r = spacing(&c);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	expect_error(&c, 0.0, &p, DP_ERR_ARG, "r = 0");
+	expect_error(&c, NAN, &p, DP_ERR_ARG, "r = NaN");
+	p.omega_deg = 180.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "omega 180");
+	dp_sink_params_default(&p);
+	p.slow_fraction = 1.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "slow fraction 1");
+	dp_sink_params_default(&p);
+	p.max_iters = 0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "max_iters 0");
+	dp_sink_params_default(&p);
+	float keep = c.ny[5];
+	c.ny[5] = NAN;
+	expect_error(&c, r, &p, DP_ERR_ARG, "NaN normal");
+	c.ny[5] = keep;
+	keep = c.z[7];
+	c.z[7] = INFINITY;
+	expect_error(&c, r, &p, DP_ERR_ARG, "infinite point");
+	c.z[7] = keep;
+	dp_cloud empty = {0};
+	expect_error(&empty, r, &p, DP_ERR_EMPTY, "empty");
+	float *nx = c.nx;
+	c.nx = NULL;
+	expect_error(&c, r, &p, DP_ERR_ARG, "no normals");
+	c.nx = nx;
+	dp_cloud h;
+	dp_error err = {0};
+	assert_int_equal(dp_sink(tk_ref_context(), &c, r, NULL, &h, NULL, &err), DP_OK);
+	dp_cloud_free(&h);
+	dp_cloud_free(&c);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_sphere),
+		cmocka_unit_test(test_cylinder),
+		cmocka_unit_test(test_torus),
+		cmocka_unit_test(test_hemisphere),
+		cmocka_unit_test(test_shallow_cap),
+		cmocka_unit_test(test_backends_agree),
+		cmocka_unit_test(test_cap_reported),
+		cmocka_unit_test(test_bad_input),
+	};
+	int rc = cmocka_run_group_tests(tests, NULL, NULL);
+	tk_teardown_contexts(NULL);
+	return rc;
+}
