@@ -290,6 +290,67 @@ typedef struct dp_sink_stats {
 dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *p, dp_cloud *anchors,
 		  dp_sink_stats *stats, dp_error *err);
 
+/* ---------------------------------------------------------- meso-skeleton */
+
+/*
+ * Forming the meso-skeleton (paper 4.2, DESIGN 4.2; owner: host/stages/skeleton.c).
+ * Lengths are in units of r (the mean nearest-neighbour spacing of the surface
+ * samples, paper Eq. 1, passed in by the caller). Q starts as the anchors H;
+ * every iteration reads the old Q and writes a new one (Jacobi), for each q_i:
+ *  - PCA of the inner points within sigma_q r of q_i (q_i included) gives the
+ *    unit axes v^1, v^2, v^3;
+ *  - semi-axes l^m = (mean over the same points i' of |n_i' · v^m| + eps)^-1
+ *    (normals are normalised first; a zero normal counts as perpendicular);
+ *  - ellipsoid distance u(x) = sqrt(Σ_m ((v^m · (q_i - x)) / l^m)²) / r and
+ *    weight ϑ(x) = exp(-u²), summed only where u <= cutoff;
+ *  - data term: the anisotropic L1-median step over the anchors,
+ *    m_i = Σ_k α_k h_k / Σ_k α_k, α_k = ϑ(h_k) / |q_i - h_k|;
+ *  - repulsion over the other inner points, ρ_i = Σ β (q_i - q') / Σ β,
+ *    β = ϑ(q') / u(q')⁵, projected onto the long axes (DESIGN 4.2 resolves the
+ *    paper's μ|ℓ|² AᵀA, which would push across a curve or sheet):
+ *    P_i = Σ_{m: w_m >= min_axis_weight} w_m v^m v^mᵀ, w_m = (l^m)² / Σ_m' (l^m')²;
+ *  - update q_i ← m_i + mu · P_i ρ_i. Without anchors in reach m_i = q_i;
+ *    without inner neighbours in reach ρ_i = 0 (isolated points stay put).
+ * Pairs closer than 1e-5 r are skipped (q_i itself, duplicates).
+ * Stops when the mean move per iteration stops falling: at iteration t > window
+ * when move_t > (1 - min_drop) · move_{t-window}, or when move_t < min_move_r;
+ * otherwise after max_iters (stats->converged = 0).
+ */
+typedef struct dp_skeleton_params {
+	double sigma_q;         /* PCA neighbourhood radius, r; default 2 */
+	double eps;             /* semi-axis constant ε; default 0.1 (so l <= 10) */
+	double mu;              /* repulsion weight μ; default 0.4 */
+	double cutoff;          /* neighbour sums stop at ellipsoid distance cutoff r; default 3 */
+	double min_axis_weight; /* repulsion ignores axes whose weight w_m is below; default 0 (all axes) */
+	int max_iters;          /* iteration cap; default 100 */
+	int window;             /* iterations over which the mean move must fall; default 3 */
+	double min_drop;        /* required relative fall of the mean move over the window; default 0.05 */
+	double min_move_r;      /* stop when the mean move is below this, r; default 1e-3 */
+} dp_skeleton_params;
+
+void dp_skeleton_params_default(dp_skeleton_params *p);
+
+typedef struct dp_skeleton_stats {
+	int iterations;
+	int converged;           /* 1 when stopped by the test above, 0 at max_iters */
+	double last_mean_move;   /* mean move of the last iteration, in units of r */
+	double seconds;
+	double pair_evaluations; /* neighbour pairs visited by the operators */
+} dp_skeleton_stats;
+
+/*
+ * Consolidates the anchors H (`anchors`, with normals: the inner points carry
+ * their surface point's outward normal, as dp_sink returns them) into the
+ * meso-skeleton Q, written to `skeleton` (same order and count, normals
+ * copied; caller frees with dp_cloud_free; must not be `anchors`). r > 0 is
+ * the surface spacing. `params` NULL means defaults; `stats` may be NULL.
+ * Errors: DP_ERR_EMPTY (no anchors), DP_ERR_ARG (no normals, non-finite
+ * positions or normals, r or a parameter out of range), DP_ERR_NOMEM, and
+ * the backend's errors. Uses ctx exclusively for its duration.
+ */
+dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const dp_skeleton_params *params,
+		      dp_cloud *skeleton, dp_skeleton_stats *stats, dp_error *err);
+
 /* -------------------------------------------------------------- rendering */
 
 /*

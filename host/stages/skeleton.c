@@ -1,0 +1,317 @@
+/* Forming the meso-skeleton (paper 4.2, DESIGN 4.2): Q starts at the anchors H
+ * and is moved by the anisotropic L1-median of the anchors plus a repulsion
+ * projected onto the long axes of each point's ellipsoid. The exact update is
+ * documented at dp_skeleton in dpoints.h; every neighbour sum is an operator
+ * (host/backend/skeleton_ops.h), the O(n) combination steps (eigen-
+ * decomposition, metric, projection and update) run here for both backends. */
+#include "dpoints.h"
+
+#include "backend/skeleton_ops.h"
+#include "core/common.h"
+#include "core/eig3.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void dp_skeleton_params_default(dp_skeleton_params *p)
+{
+	p->sigma_q = 2.0;
+	p->eps = 0.1;
+	p->mu = 0.4;
+	p->cutoff = 3.0;
+	p->min_axis_weight = 0.0;
+	p->max_iters = 100;
+	p->window = 3;
+	p->min_drop = 0.05;
+	p->min_move_r = 1e-3;
+}
+
+static dp_status check_params(const dp_skeleton_params *p, dp_error *err)
+{
+	if (!(p->sigma_q > 0.0) || !isfinite(p->sigma_q))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: sigma_q %g must be positive", p->sigma_q);
+	if (!(p->eps > 0.0) || !isfinite(p->eps))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: eps %g must be positive (it bounds the semi-axes)",
+			       p->eps);
+	if (!(p->mu >= 0.0) || !isfinite(p->mu))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: mu %g must be >= 0", p->mu);
+	if (!(p->cutoff > 0.0) || !isfinite(p->cutoff))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: cutoff %g must be positive", p->cutoff);
+	if (!(p->min_axis_weight >= 0.0 && p->min_axis_weight <= 1.0))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: min_axis_weight %g must be in [0, 1]",
+			       p->min_axis_weight);
+	if (p->max_iters < 0)
+		return dp_fail(err, DP_ERR_ARG, "skeleton: max_iters %d must be >= 0", p->max_iters);
+	if (p->window < 1)
+		return dp_fail(err, DP_ERR_ARG, "skeleton: window %d must be >= 1", p->window);
+	if (!(p->min_drop >= 0.0 && p->min_drop < 1.0))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: min_drop %g must be in [0, 1)", p->min_drop);
+	if (!(p->min_move_r >= 0.0) || !isfinite(p->min_move_r))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: min_move_r %g must be >= 0", p->min_move_r);
+	return DP_OK;
+}
+
+static dp_status check_anchors(const dp_cloud *h, double r, dp_error *err)
+{
+	if (!h || h->n == 0)
+		return dp_fail(err, DP_ERR_EMPTY, "skeleton: no anchor points");
+	if (!h->nx || !h->ny || !h->nz)
+		return dp_fail(err, DP_ERR_ARG, "skeleton: the anchors carry no normals");
+	if (!(r > 0.0) || !isfinite(r))
+		return dp_fail(err, DP_ERR_ARG, "skeleton: spacing r = %g must be positive", r);
+	for (size_t i = 0; i < h->n; i++)
+		if (!isfinite(h->x[i]) || !isfinite(h->y[i]) || !isfinite(h->z[i]) || !isfinite(h->nx[i]) ||
+		    !isfinite(h->ny[i]) || !isfinite(h->nz[i]))
+			return dp_fail(err, DP_ERR_ARG, "skeleton: anchor %zu has a non-finite position or normal", i);
+	return DP_OK;
+}
+
+/* Per-point arrays of one run, allocated once. */
+typedef struct work {
+	float *count, *cov, *frames, *semi, *metric, *median, *repulse; /* 1, 6, 9, 3, 9, 3, 3 per point */
+	float *ux, *uy, *uz;                                             /* unit normals (zero stays zero) */
+	float *gnx, *gny, *gnz;                                          /* unit normals in the near grid's order */
+	float *nx, *ny, *nz;                                             /* next positions */
+	double *moves;                                                   /* mean move per iteration, r */
+	dp_grid near, inner, anchors;
+} work;
+
+static void work_free(work *w)
+{
+	float *arrays[] = {w->count, w->cov, w->frames, w->semi, w->metric, w->median, w->repulse, w->ux,
+			   w->uy,    w->uz,  w->gnx,    w->gny,  w->gnz,    w->nx,     w->ny,      w->nz};
+	for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
+		free(arrays[k]);
+	free(w->moves);
+	dp_grid_free(&w->near);
+	dp_grid_free(&w->inner);
+	dp_grid_free(&w->anchors);
+}
+
+static dp_status work_alloc(work *w, size_t n, int max_iters, dp_error *err)
+{
+	memset(w, 0, sizeof *w);
+	w->count = dp_alloc_array(n, sizeof(float));
+	w->cov = dp_alloc_array(n, 6 * sizeof(float));
+	w->frames = dp_alloc_array(n, 9 * sizeof(float));
+	w->semi = dp_alloc_array(n, 3 * sizeof(float));
+	w->metric = dp_alloc_array(n, 9 * sizeof(float));
+	w->median = dp_alloc_array(n, 3 * sizeof(float));
+	w->repulse = dp_alloc_array(n, 3 * sizeof(float));
+	w->ux = dp_alloc_array(n, sizeof(float));
+	w->uy = dp_alloc_array(n, sizeof(float));
+	w->uz = dp_alloc_array(n, sizeof(float));
+	w->gnx = dp_alloc_array(n, sizeof(float));
+	w->gny = dp_alloc_array(n, sizeof(float));
+	w->gnz = dp_alloc_array(n, sizeof(float));
+	w->nx = dp_alloc_array(n, sizeof(float));
+	w->ny = dp_alloc_array(n, sizeof(float));
+	w->nz = dp_alloc_array(n, sizeof(float));
+	w->moves = dp_alloc_array((size_t)max_iters + 1, sizeof(double));
+	if (!w->count || !w->cov || !w->frames || !w->semi || !w->metric || !w->median || !w->repulse || !w->ux ||
+	    !w->uy || !w->uz || !w->gnx || !w->gny || !w->gnz || !w->nx || !w->ny || !w->nz || !w->moves) {
+		work_free(w);
+		return dp_fail(err, DP_ERR_NOMEM, "skeleton: out of memory for %zu points", n);
+	}
+	return DP_OK;
+}
+
+/* The semi-axes measure normal projections, so they need unit normals
+ * whatever the caller passed. */
+static void unit_normals(work *w, const dp_cloud *h)
+{
+	for (size_t i = 0; i < h->n; i++) {
+		double x = h->nx[i], y = h->ny[i], z = h->nz[i], len = sqrt(x * x + y * y + z * z);
+		double inv = len > 0.0 ? 1.0 / len : 0.0;
+		w->ux[i] = (float)(x * inv);
+		w->uy[i] = (float)(y * inv);
+		w->uz[i] = (float)(z * inv);
+	}
+}
+
+/* PCA axes of every neighbourhood (eigenvectors of its covariance). */
+static void frames_from_cov(work *w, size_t n)
+{
+	for (size_t i = 0; i < n; i++) {
+		double a[6], ev[3], v[3][3];
+		for (int k = 0; k < 6; k++)
+			a[k] = w->cov[6 * i + k];
+		dp_eig3_sym(a, ev, v);
+		for (int m = 0; m < 3; m++)
+			for (int c = 0; c < 3; c++)
+				w->frames[9 * i + 3 * m + c] = (float)v[m][c];
+	}
+}
+
+/* The metric rows v^m / (l^m r) of the ellipsoid distance; returns the
+ * largest semi-axis, which sets the reach of the weighted sums. */
+static float metric_from_semiaxes(work *w, size_t n, double r)
+{
+	float longest = 0.0f;
+	for (size_t i = 0; i < n; i++)
+		for (int m = 0; m < 3; m++) {
+			float l = w->semi[3 * i + m];
+			longest = fmaxf(longest, l);
+			for (int c = 0; c < 3; c++)
+				w->metric[9 * i + 3 * m + c] = (float)(w->frames[9 * i + 3 * m + c] / (l * r));
+		}
+	return longest;
+}
+
+/* q_i ← m_i + μ P_i ρ_i into w->nx/ny/nz; returns the mean move in r. */
+static double update(work *w, const dp_cloud *q, double r, const dp_skeleton_params *p)
+{
+	double total = 0.0;
+	for (size_t i = 0; i < q->n; i++) {
+		const float *v = w->frames + 9 * i, *l = w->semi + 3 * i, *rep = w->repulse + 3 * i;
+		double l2 = (double)l[0] * l[0] + (double)l[1] * l[1] + (double)l[2] * l[2];
+		double proj[3] = {0.0, 0.0, 0.0};
+		for (int m = 0; m < 3; m++) {
+			double wm = (double)l[m] * l[m] / l2;
+			if (wm < p->min_axis_weight)
+				continue;
+			double along = wm * (v[3 * m] * rep[0] + v[3 * m + 1] * rep[1] + v[3 * m + 2] * rep[2]);
+			for (int c = 0; c < 3; c++)
+				proj[c] += along * v[3 * m + c];
+		}
+		double nxt[3];
+		for (int c = 0; c < 3; c++)
+			nxt[c] = w->median[3 * i + c] + p->mu * proj[c];
+		double dx = nxt[0] - q->x[i], dy = nxt[1] - q->y[i], dz = nxt[2] - q->z[i];
+		total += sqrt(dx * dx + dy * dy + dz * dz);
+		w->nx[i] = (float)nxt[0];
+		w->ny[i] = (float)nxt[1];
+		w->nz[i] = (float)nxt[2];
+	}
+	return total / (double)q->n / r;
+}
+
+/* One iteration: the four operators over the current Q, then the update. */
+static dp_status iterate(dp_context *ctx, const dp_cloud *h, dp_cloud *q, double r, const dp_skeleton_params *p,
+			 work *w, float *anchor_cell, double *mean_move, dp_error *err)
+{
+	size_t n = q->n;
+	float near_radius = (float)(p->sigma_q * r);
+	dp_status st = dp_grid_build(&w->near, n, q->x, q->y, q->z, near_radius, err);
+	if (st != DP_OK)
+		return st;
+	dp_skeleton_cov_args ca = {
+		.data = &w->near, .nq = n, .qx = q->x, .qy = q->y, .qz = q->z, .radius = near_radius,
+		.count = w->count, .cov = w->cov,
+	};
+	if ((st = dp_op_skeleton_cov(ctx, &ca, err)) != DP_OK)
+		return st;
+	frames_from_cov(w, n);
+	dp_grid_gather(&w->near, w->ux, w->gnx);
+	dp_grid_gather(&w->near, w->uy, w->gny);
+	dp_grid_gather(&w->near, w->uz, w->gnz);
+	dp_skeleton_semiaxes_args sa = {
+		.data = &w->near, .nx = w->gnx, .ny = w->gny, .nz = w->gnz, .nq = n, .qx = q->x, .qy = q->y,
+		.qz = q->z, .frames = w->frames, .radius = near_radius, .eps = (float)p->eps, .semi = w->semi,
+	};
+	if ((st = dp_op_skeleton_semiaxes(ctx, &sa, err)) != DP_OK)
+		return st;
+
+	float reach = (float)(p->cutoff * r) * metric_from_semiaxes(w, n, r);
+	if ((st = dp_grid_build(&w->inner, n, q->x, q->y, q->z, reach, err)) != DP_OK)
+		return st;
+	/* The anchors never move: re-bucket them only when the reach changes. */
+	if (reach != *anchor_cell) {
+		if ((st = dp_grid_build(&w->anchors, h->n, h->x, h->y, h->z, reach, err)) != DP_OK)
+			return st;
+		*anchor_cell = reach;
+	}
+	float cutoff = (float)p->cutoff, min_d2 = (float)(DP_PAIR_EPS * r) * (float)(DP_PAIR_EPS * r);
+	dp_skeleton_median_args ma = {
+		.data = &w->anchors, .nq = n, .qx = q->x, .qy = q->y, .qz = q->z, .metric = w->metric,
+		.cutoff = cutoff, .min_d2 = min_d2, .median = w->median,
+	};
+	if ((st = dp_op_skeleton_median(ctx, &ma, err)) != DP_OK)
+		return st;
+	dp_skeleton_repulse_args ra = {
+		.data = &w->inner, .nq = n, .qx = q->x, .qy = q->y, .qz = q->z, .metric = w->metric,
+		.cutoff = cutoff, .min_d2 = min_d2, .repulse = w->repulse,
+	};
+	if ((st = dp_op_skeleton_repulse(ctx, &ra, err)) != DP_OK)
+		return st;
+
+	*mean_move = update(w, q, r, p);
+	size_t bytes = n * sizeof(float);
+	memcpy(q->x, w->nx, bytes);
+	memcpy(q->y, w->ny, bytes);
+	memcpy(q->z, w->nz, bytes);
+	return DP_OK;
+}
+
+/* Names the stage and iteration in front of an operator's or the grid's message. */
+static dp_status stage_error(dp_error *err, dp_status st, int t)
+{
+	if (err) {
+		char msg[DP_ERROR_MESSAGE_MAX];
+		memcpy(msg, err->message, sizeof msg);
+		msg[sizeof msg - 1] = '\0';
+		dp_fail(err, st, "skeleton, iteration %d: %s", t + 1, msg);
+	}
+	return st;
+}
+
+/* The mean move has stopped falling (DESIGN 4.2: the largest move never gets
+ * small, repulsion keeps points sliding along the skeleton). */
+static int converged(const double *moves, int t, const dp_skeleton_params *p)
+{
+	if (moves[t] < p->min_move_r)
+		return 1;
+	return t >= p->window && moves[t] > (1.0 - p->min_drop) * moves[t - p->window];
+}
+
+dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const dp_skeleton_params *params,
+		      dp_cloud *skeleton, dp_skeleton_stats *stats, dp_error *err)
+{
+	if (!ctx || !skeleton)
+		return dp_fail(err, DP_ERR_ARG, "skeleton: no context or no output cloud");
+	double t0 = dp_seconds(), pairs0 = ctx->pair_evaluations;
+	dp_skeleton_params defaults;
+	if (!params) {
+		dp_skeleton_params_default(&defaults);
+		params = &defaults;
+	}
+	if (stats)
+		memset(stats, 0, sizeof *stats);
+	memset(skeleton, 0, sizeof *skeleton);
+	dp_status st = check_params(params, err);
+	if (st == DP_OK)
+		st = check_anchors(anchors, r, err);
+	if (st != DP_OK)
+		return st;
+	if ((st = dp_cloud_copy(skeleton, anchors, err)) != DP_OK)
+		return st;
+	work w;
+	if ((st = work_alloc(&w, anchors->n, params->max_iters, err)) != DP_OK) {
+		dp_cloud_free(skeleton);
+		return st;
+	}
+
+	unit_normals(&w, anchors);
+	float anchor_cell = 0.0f;
+	int t = 0, done = 0;
+	for (; t < params->max_iters && !done; t++) {
+		st = iterate(ctx, anchors, skeleton, r, params, &w, &anchor_cell, &w.moves[t], err);
+		if (st != DP_OK) {
+			stage_error(err, st, t);
+			break;
+		}
+		done = converged(w.moves, t, params);
+	}
+	if (st == DP_OK && stats) {
+		stats->iterations = t;
+		stats->converged = done;
+		stats->last_mean_move = t > 0 ? w.moves[t - 1] : 0.0;
+		stats->seconds = dp_seconds() - t0;
+		stats->pair_evaluations = ctx->pair_evaluations - pairs0;
+	}
+	work_free(&w);
+	if (st != DP_OK)
+		dp_cloud_free(skeleton);
+	return st;
+}

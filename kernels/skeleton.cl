@@ -1,0 +1,146 @@
+/* Meso-skeleton operators (DESIGN 4.2); the specification is
+ * host/ref/skeleton_ref.c, the argument meaning host/backend/skeleton_ops.h. */
+
+__kernel void skeleton_cov(const uint n, __global const float *qx, __global const float *qy,
+			   __global const float *qz, GRID_ARGS, const float radius, __global float *count,
+			   __global float *cov)
+{
+	uint i = get_global_id(0);
+	if (i >= n)
+		return;
+	float px = qx[i], py = qy[i], pz = qz[i];
+	float r2 = radius * radius;
+	float c = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
+	float sxx = 0.0f, sxy = 0.0f, sxz = 0.0f, syy = 0.0f, syz = 0.0f, szz = 0.0f;
+	GRID_FOR(px, py, pz, k)
+		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
+		if (dx * dx + dy * dy + dz * dz < r2) {
+			c += 1.0f;
+			sx += dx;
+			sy += dy;
+			sz += dz;
+			sxx += dx * dx;
+			sxy += dx * dy;
+			sxz += dx * dz;
+			syy += dy * dy;
+			syz += dy * dz;
+			szz += dz * dz;
+		}
+	GRID_FOR_END
+	count[i] = c;
+	float inv = c > 0.0f ? 1.0f / c : 0.0f;
+	float mx = sx * inv, my = sy * inv, mz = sz * inv;
+	cov[6 * i + 0] = sxx * inv - mx * mx;
+	cov[6 * i + 1] = sxy * inv - mx * my;
+	cov[6 * i + 2] = sxz * inv - mx * mz;
+	cov[6 * i + 3] = syy * inv - my * my;
+	cov[6 * i + 4] = syz * inv - my * mz;
+	cov[6 * i + 5] = szz * inv - mz * mz;
+}
+
+__kernel void skeleton_semiaxes(const uint n, __global const float *qx, __global const float *qy,
+				__global const float *qz, GRID_ARGS, __global const float *gnx,
+				__global const float *gny, __global const float *gnz,
+				__global const float *frames, const float radius, const float eps,
+				__global float *semi)
+{
+	uint i = get_global_id(0);
+	if (i >= n)
+		return;
+	float px = qx[i], py = qy[i], pz = qz[i];
+	__global const float *v = frames + 9 * i;
+	float v0x = v[0], v0y = v[1], v0z = v[2], v1x = v[3], v1y = v[4], v1z = v[5];
+	float v2x = v[6], v2y = v[7], v2z = v[8];
+	float r2 = radius * radius;
+	float c = 0.0f, s0 = 0.0f, s1 = 0.0f, s2 = 0.0f;
+	GRID_FOR(px, py, pz, k)
+		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
+		if (dx * dx + dy * dy + dz * dz < r2) {
+			float nx = gnx[k], ny = gny[k], nz = gnz[k];
+			c += 1.0f;
+			s0 += fabs(nx * v0x + ny * v0y + nz * v0z);
+			s1 += fabs(nx * v1x + ny * v1y + nz * v1z);
+			s2 += fabs(nx * v2x + ny * v2y + nz * v2z);
+		}
+	GRID_FOR_END
+	float inv = c > 0.0f ? 1.0f / c : 0.0f;
+	semi[3 * i + 0] = 1.0f / (s0 * inv + eps);
+	semi[3 * i + 1] = 1.0f / (s1 * inv + eps);
+	semi[3 * i + 2] = 1.0f / (s2 * inv + eps);
+}
+
+/* Both sums below weigh a neighbour by ϑ = exp(-u²), u the ellipsoid distance
+ * in units of r under the query's metric rows m0, m1, m2. */
+#define SKELETON_METRIC_LOAD(metric, i)                                                   \
+	__global const float *m_ = (metric) + 9 * (i);                                    \
+	float m0x = m_[0], m0y = m_[1], m0z = m_[2], m1x = m_[3], m1y = m_[4], m1z = m_[5]; \
+	float m2x = m_[6], m2y = m_[7], m2z = m_[8];
+
+float skeleton_u2(float m0x, float m0y, float m0z, float m1x, float m1y, float m1z, float m2x, float m2y,
+		  float m2z, float dx, float dy, float dz)
+{
+	float a = m0x * dx + m0y * dy + m0z * dz;
+	float b = m1x * dx + m1y * dy + m1z * dz;
+	float c = m2x * dx + m2y * dy + m2z * dz;
+	return a * a + b * b + c * c;
+}
+
+__kernel void skeleton_median(const uint n, __global const float *qx, __global const float *qy,
+			      __global const float *qz, __global const float *metric, GRID_ARGS,
+			      const float cutoff, const float min_d2, __global float *median)
+{
+	uint i = get_global_id(0);
+	if (i >= n)
+		return;
+	float px = qx[i], py = qy[i], pz = qz[i];
+	SKELETON_METRIC_LOAD(metric, i)
+	float cut2 = cutoff * cutoff;
+	float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
+	GRID_FOR(px, py, pz, k)
+		float hx = gx[k], hy = gy[k], hz = gz[k];
+		float dx = px - hx, dy = py - hy, dz = pz - hz;
+		float d2 = dx * dx + dy * dy + dz * dz;
+		float u2 = skeleton_u2(m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z, dx, dy, dz);
+		if (u2 <= cut2 && d2 >= min_d2) {
+			float alpha = exp(-u2) / sqrt(d2);
+			w += alpha;
+			sx += alpha * hx;
+			sy += alpha * hy;
+			sz += alpha * hz;
+		}
+	GRID_FOR_END
+	int found = w > 0.0f;
+	float inv = found ? 1.0f / w : 0.0f;
+	median[3 * i + 0] = found ? sx * inv : px;
+	median[3 * i + 1] = found ? sy * inv : py;
+	median[3 * i + 2] = found ? sz * inv : pz;
+}
+
+__kernel void skeleton_repulse(const uint n, __global const float *qx, __global const float *qy,
+			       __global const float *qz, __global const float *metric, GRID_ARGS,
+			       const float cutoff, const float min_d2, __global float *repulse)
+{
+	uint i = get_global_id(0);
+	if (i >= n)
+		return;
+	float px = qx[i], py = qy[i], pz = qz[i];
+	SKELETON_METRIC_LOAD(metric, i)
+	float cut2 = cutoff * cutoff;
+	float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
+	GRID_FOR(px, py, pz, k)
+		float dx = px - gx[k], dy = py - gy[k], dz = pz - gz[k];
+		float d2 = dx * dx + dy * dy + dz * dz;
+		float u2 = skeleton_u2(m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z, dx, dy, dz);
+		if (u2 <= cut2 && d2 >= min_d2) {
+			float beta = exp(-u2) / (u2 * u2 * sqrt(u2));
+			w += beta;
+			sx += beta * dx;
+			sy += beta * dy;
+			sz += beta * dz;
+		}
+	GRID_FOR_END
+	float inv = w > 0.0f ? 1.0f / w : 0.0f;
+	repulse[3 * i + 0] = sx * inv;
+	repulse[3 * i + 1] = sy * inv;
+	repulse[3 * i + 2] = sz * inv;
+}
