@@ -351,6 +351,51 @@ typedef struct dp_skeleton_stats {
 dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const dp_skeleton_params *params,
 		      dp_cloud *skeleton, dp_skeleton_stats *stats, dp_error *err);
 
+/* --------------------------------------------------------------- pipeline */
+
+/* Every parameter of the whole pipeline, each with the paper's default. */
+typedef struct dp_params {
+	dp_wlop_params wlop;
+	dp_normal_params normals;
+	dp_sink_params sink;
+	dp_skeleton_params skeleton;
+	dp_surface_params surface;
+} dp_params;
+
+void dp_params_default(dp_params *p);
+
+/*
+ * Everything dp_consolidate makes. All clouds have the same count n = number
+ * of WLOP samples and the same order: deep point i joins surface point i and
+ * skeleton point i. Owned by the caller; release with dp_result_free.
+ */
+typedef struct dp_result {
+	dp_cloud wlop;      /* S: WLOP samples with oriented normals */
+	dp_cloud anchors;   /* H: settled inner points after sinking (with S's normals) */
+	dp_cloud skeleton;  /* Q: the meso-skeleton, inner ends of the deep points */
+	dp_cloud surface;   /* P: consolidated, completed surface with normals */
+	float *eta;         /* n: input support η of each surface point (1 = no input near) */
+	float *length;      /* n: dpoint length |p_i - q_i| */
+	double r;           /* mean NN spacing of S (paper Eq. 1), the unit of the later stages */
+	size_t points_in;
+	dp_wlop_stats wlop_stats;
+	dp_sink_stats sink_stats;
+	dp_skeleton_stats skeleton_stats;
+	dp_surface_stats surface_stats;
+	double seconds_normals, seconds_total;
+} dp_result;
+
+/*
+ * The whole pipeline on a raw cloud: WLOP -> normals -> sinking ->
+ * meso-skeleton -> surface consolidation. `input` positions only are read.
+ * `params` NULL means the defaults. On success `result` is filled (caller
+ * frees with dp_result_free); on error it is zeroed and err names the stage.
+ * Uses ctx exclusively for its duration.
+ */
+dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params *params, dp_result *result,
+			 dp_error *err);
+void dp_result_free(dp_result *result);
+
 /* -------------------------------------------------------------- rendering */
 
 /*
