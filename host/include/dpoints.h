@@ -351,6 +351,101 @@ typedef struct dp_skeleton_stats {
 dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const dp_skeleton_params *params,
 		      dp_cloud *skeleton, dp_skeleton_stats *stats, dp_error *err);
 
+/* -------------------------------------------------- surface consolidation */
+
+/*
+ * Surface point consolidation (paper 4.3, DESIGN 4.3; owner:
+ * host/stages/surface.c). Lengths are in units of r (paper Eq. 1, passed in
+ * by the caller); θ(d) = exp(-(d/r)²). P starts as the samples S, Q as the
+ * skeleton; every pass reads the old P and writes a new one (Jacobi). For each
+ * p_i with unit normal n_i, inner end q_i, dpoint length ℓ_i = |p_i - q_i| and
+ * orientation m_i = (p_i - q_i)/ℓ_i, one iteration is:
+ *  1. data term over the input points C_i within sigma_p r: α_ij = θ/(d/r),
+ *     η_i = 1 + Σ θ, c̄_i = Σ α c / Σ α (weighted L1-median);
+ *     over the surface points P_i within sigma_p r (p_i included): L_i the
+ *     θ-weighted mean of ℓ, γ_i = 1/(1 + variance of ℓ/r), W_i = Σ θ;
+ *     tangential repulsion R_i = Σ β̂ T_i(p_i - p') / Σ β̂, T_i = I - n_i n_iᵀ,
+ *     β̂ = θ / max(|T_i(p_i - p')|/r, tangent_floor_r)⁵ (p' ≠ p_i);
+ *  2. slide: p_i += mu_hat R_i;
+ *  3. re-attachment (when `reattach`; the paper's "refine the connection"):
+ *     q_i ← the skeleton point within reattach_radius_r r of q_i, behind p_i,
+ *     nearest to the line through p_i along ñ_i (the PCA normal of step 5 of
+ *     the previous iteration; n_i itself is m_i where there is no input);
+ *  4. data and prior step at the slid p_i, with m_i, ℓ_i of the slid p_i and
+ *     the re-attached q_i (DESIGN 4.3: the data term acts along the normal
+ *     only, or the boundaries of missing regions stay pinned):
+ *     p_i += [η Σα D_i + g_i] / (γ + η Σα), D_i = n_i n_iᵀ(c̄_i - p_i)
+ *     (data_along_normal; else c̄_i - p_i as Eq. 6 is printed),
+ *     volume prior (Eq. 8):  g_i = γ (q_i + L_i m_i - p_i) = γ (L_i - ℓ_i) m_i;
+ *     minimal prior (Eq. 9): g_i = -γ min(L_i / W_i, ℓ_i) m_i, the gradient of
+ *     ½γL_i² through the point's own length, never past q_i (derivation and
+ *     measured behaviour in host/stages/surface.c);
+ *  5. normal update: n_i = normalize((η_i - 1) ñ_i + m_i), ñ_i the PCA normal
+ *     of the new surface points within normal_radius_r r, oriented like n_i.
+ * (The paper adds steps 2 and 4 in one update; sliding first has the same
+ * fixed points and avoids an outward drift of unsupported regions.)
+ * Stops when, over the last `window` iterations against the `window` before,
+ * the mean move has not fallen by min_drop and the mean nearest-neighbour
+ * spacing of P (the area per point grows with its square while points spread
+ * into missing regions) has not grown by min_growth; otherwise after
+ * max_iters (stats->converged = 0).
+ */
+typedef enum dp_surface_prior {
+	DP_SURFACE_PRIOR_VOLUME = 0,  /* volume preserving, Eq. 8 (default) */
+	DP_SURFACE_PRIOR_MINIMAL = 1  /* minimal volume, Eq. 9 */
+} dp_surface_prior;
+
+typedef struct dp_surface_params {
+	double sigma_p;           /* neighbourhood radius of C_i and P_i, r; default 5 */
+	double mu_hat;            /* tangential repulsion μ̂, in [0, 1]; default 0.4 */
+	dp_surface_prior prior;   /* default DP_SURFACE_PRIOR_VOLUME */
+	int data_along_normal;    /* 1: data term n nᵀ(c̄ - p) (DESIGN 4.3); 0: c̄ - p as Eq. 6 is printed; default 1 */
+	double tangent_floor_r;   /* smallest tangential distance in β̂, r (> 0); default 0.01 */
+	double normal_radius_r;   /* PCA neighbourhood of ñ, r; default 3 */
+	int reattach;             /* re-attach inner ends; default 1 */
+	double reattach_radius_r; /* re-attachment search radius around q_i, r; default 2 */
+	int max_iters;            /* iteration cap, >= 0; default 200 */
+	int window;               /* iterations per compared block, >= 1; default 10 */
+	double min_drop;          /* relative fall of the mean move that keeps it going, in [0, 1); default 0.05 */
+	double min_growth;        /* relative growth of the spacing that keeps it going, >= 0; default 0.005 */
+} dp_surface_params;
+
+void dp_surface_params_default(dp_surface_params *p);
+
+typedef struct dp_surface_stats {
+	int iterations;
+	int converged;           /* 1 when stopped by the test above, 0 at max_iters */
+	double last_mean_move;   /* mean move of the last iteration, in units of r */
+	double spacing_growth;   /* final / initial mean nearest-neighbour distance of P */
+	size_t reattached;       /* inner ends moved to another skeleton point, over all iterations */
+	double seconds;
+	double pair_evaluations; /* neighbour pairs visited by the operators */
+} dp_surface_stats;
+
+/*
+ * Consolidates the surface points: `input` = C (raw points, positions only),
+ * `samples` = S with outward unit normals (the initial P), `skeleton` = Q, the
+ * inner ends (same count as S). Writes P with its normals to `surface`
+ * (overwritten, not freed first; caller frees with dp_cloud_free; zeroed on
+ * error) and, when `eta` is not NULL, η of every final p_i (input support; 1
+ * where no input is in reach) into the caller's n floats. On success the
+ * positions of `skeleton` are updated in place to the re-attached inner ends
+ * (unchanged without `reattach`) and its normals, when present, receive the
+ * final surface normals (an inner point carries its surface point's normal);
+ * on error `skeleton` is left as it was. r > 0 is the surface
+ * spacing. `params` NULL means defaults; `stats` may be NULL. Reports
+ * progress as ("surface", iteration, mean move in r). Uses ctx exclusively
+ * for its duration.
+ * Errors: DP_ERR_ARG (NULL arguments, samples without normals or with a zero
+ * normal, a skeleton of another size, `surface` aliasing an input, non-finite
+ * points or normals, r
+ * or a parameter out of range), DP_ERR_EMPTY (no samples or no input points),
+ * DP_ERR_NOMEM, and the backend's errors.
+ */
+dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
+		     double r, const dp_surface_params *params, dp_cloud *surface, float *eta,
+		     dp_surface_stats *stats, dp_error *err);
+
 /* --------------------------------------------------------------- pipeline */
 
 /* Every parameter of the whole pipeline, each with the paper's default. */

@@ -1,0 +1,454 @@
+/* Surface consolidation (dp_surface) on shapes with a known answer, with
+ * noise (DESIGN 5, issue 3): a complete sphere lands on the sphere; one-sided
+ * scans (the half facing +z) of a sphere and a torus are completed by the
+ * volume prior; and the two backends agree on a small input. The skeletons
+ * stand in for the earlier stages: points near the centre (sphere), points
+ * near the core circle (torus). */
+#include "testkit.h"
+
+#include "knn/knn.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SPHERE_R 1.0
+#define TORUS_R 1.0
+#define TORUS_RHO 0.35
+/* Coverage: a true-surface sample is covered within this many mean
+ * nearest-neighbour spacings of the points (issue 3). */
+#define COVER_FACTOR 1.5
+#define TRUTH_SAMPLES 6000
+
+typedef struct shape {
+	int torus; /* else sphere */
+} shape;
+
+/* A uniform point of the surface with its outward normal. The torus is
+ * sampled by rejection on the tube angle (area element ∝ R + ρ cos v). */
+static void surface_point(const shape *s, dp_rng *rng, double p[3], double n[3])
+{
+	if (!s->torus) {
+		double len;
+		do {
+			len = 0.0;
+			for (int a = 0; a < 3; a++) {
+				n[a] = dp_rng_normal(rng);
+				len += n[a] * n[a];
+			}
+		} while (len < 1e-12);
+		len = sqrt(len);
+		for (int a = 0; a < 3; a++) {
+			n[a] /= len;
+			p[a] = SPHERE_R * n[a];
+		}
+		return;
+	}
+	double u = 2.0 * M_PI * dp_rng_uniform(rng), v;
+	do
+		v = 2.0 * M_PI * dp_rng_uniform(rng);
+	while (dp_rng_uniform(rng) * (TORUS_R + TORUS_RHO) > TORUS_R + TORUS_RHO * cos(v));
+	n[0] = cos(v) * cos(u);
+	n[1] = cos(v) * sin(u);
+	n[2] = sin(v);
+	p[0] = (TORUS_R + TORUS_RHO * cos(v)) * cos(u);
+	p[1] = (TORUS_R + TORUS_RHO * cos(v)) * sin(u);
+	p[2] = TORUS_RHO * sin(v);
+}
+
+static double surface_distance(const shape *s, const float *p)
+{
+	double x = p[0], y = p[1], z = p[2];
+	if (!s->torus)
+		return fabs(sqrt(x * x + y * y + z * z) - SPHERE_R);
+	double ring = sqrt(x * x + y * y) - TORUS_R;
+	return fabs(sqrt(ring * ring + z * z) - TORUS_RHO);
+}
+
+/* The skeleton point an earlier stage would give for surface point p: the
+ * centre, or the nearest core-circle point, plus isotropic noise. */
+static void skeleton_point(const shape *s, dp_rng *rng, const double p[3], double noise, float q[3])
+{
+	double c[3] = {0.0, 0.0, 0.0};
+	if (s->torus) {
+		double rho = sqrt(p[0] * p[0] + p[1] * p[1]);
+		c[0] = TORUS_R * p[0] / rho;
+		c[1] = TORUS_R * p[1] / rho;
+	}
+	for (int a = 0; a < 3; a++)
+		q[a] = (float)(c[a] + noise * dp_rng_normal(rng));
+}
+
+/* n points of the surface (only those with z > 0 when one_sided) with
+ * Gaussian noise per coordinate and exact outward normals. */
+static void make_cloud(const shape *s, dp_rng *rng, size_t n, int one_sided, double noise, dp_cloud *c)
+{
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_alloc(c, n, 1, &err), DP_OK);
+	for (size_t i = 0; i < n; i++) {
+		double p[3], nrm[3];
+		do
+			surface_point(s, rng, p, nrm);
+		while (one_sided && p[2] <= 0.0);
+		c->x[i] = (float)(p[0] + noise * dp_rng_normal(rng));
+		c->y[i] = (float)(p[1] + noise * dp_rng_normal(rng));
+		c->z[i] = (float)(p[2] + noise * dp_rng_normal(rng));
+		c->nx[i] = (float)nrm[0];
+		c->ny[i] = (float)nrm[1];
+		c->nz[i] = (float)nrm[2];
+	}
+}
+
+static void make_skeleton(const shape *s, dp_rng *rng, const dp_cloud *samples, double noise, dp_cloud *q)
+{
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_alloc(q, samples->n, 1, &err), DP_OK);
+	for (size_t i = 0; i < samples->n; i++) {
+		double p[3] = {samples->x[i], samples->y[i], samples->z[i]};
+		float v[3];
+		skeleton_point(s, rng, p, noise, v);
+		q->x[i] = v[0];
+		q->y[i] = v[1];
+		q->z[i] = v[2];
+		q->nx[i] = samples->nx[i];
+		q->ny[i] = samples->ny[i];
+		q->nz[i] = samples->nz[i];
+	}
+}
+
+static double mean_distance(const shape *s, const dp_cloud *c)
+{
+	double sum = 0.0;
+	for (size_t i = 0; i < c->n; i++) {
+		float p[3] = {c->x[i], c->y[i], c->z[i]};
+		sum += surface_distance(s, p);
+	}
+	return sum / (double)c->n;
+}
+
+/* Fraction of TRUTH_SAMPLES uniform surface samples within COVER_FACTOR × the
+ * mean nearest-neighbour spacing of c. */
+static double coverage(const shape *s, const dp_cloud *c)
+{
+	dp_error err = {0};
+	double spacing;
+	assert_int_equal(dp_mean_spacing(c->n, c->x, c->y, c->z, &spacing, &err), DP_OK);
+	dp_knn knn;
+	assert_int_equal(dp_knn_build(&knn, c->n, c->x, c->y, c->z, &err), DP_OK);
+	dp_rng rng;
+	dp_rng_seed(&rng, 99);
+	float *t = malloc(3 * TRUTH_SAMPLES * sizeof *t), *d2 = malloc(TRUTH_SAMPLES * sizeof *d2);
+	int *idx = malloc(TRUTH_SAMPLES * sizeof *idx);
+	assert_non_null(t);
+	assert_non_null(d2);
+	assert_non_null(idx);
+	for (size_t i = 0; i < TRUTH_SAMPLES; i++) {
+		double p[3], nrm[3];
+		surface_point(s, &rng, p, nrm);
+		for (int a = 0; a < 3; a++)
+			t[a * TRUTH_SAMPLES + i] = (float)p[a];
+	}
+	assert_int_equal(dp_knn_query(&knn, TRUTH_SAMPLES, t, t + TRUTH_SAMPLES, t + 2 * TRUTH_SAMPLES, 1, idx, d2,
+				      &err),
+			 DP_OK);
+	double lim = COVER_FACTOR * spacing;
+	size_t covered = 0;
+	for (size_t i = 0; i < TRUTH_SAMPLES; i++)
+		covered += d2[i] <= lim * lim;
+	free(t);
+	free(d2);
+	free(idx);
+	dp_knn_free(&knn);
+	return (double)covered / TRUTH_SAMPLES;
+}
+
+/* Mean angle (degrees) between output normals and the true outward normal
+ * of the nearest surface point. */
+static double normal_error_deg(const shape *s, const dp_cloud *c)
+{
+	double sum = 0.0;
+	for (size_t i = 0; i < c->n; i++) {
+		double x = c->x[i], y = c->y[i], z = c->z[i], t[3];
+		if (!s->torus) {
+			double len = sqrt(x * x + y * y + z * z);
+			t[0] = x / len;
+			t[1] = y / len;
+			t[2] = z / len;
+		} else {
+			double rho = sqrt(x * x + y * y);
+			double cx = TORUS_R * x / rho, cy = TORUS_R * y / rho;
+			double len = sqrt((x - cx) * (x - cx) + (y - cy) * (y - cy) + z * z);
+			t[0] = (x - cx) / len;
+			t[1] = (y - cy) / len;
+			t[2] = z / len;
+		}
+		double dot = t[0] * c->nx[i] + t[1] * c->ny[i] + t[2] * c->nz[i];
+		sum += acos(fmax(-1.0, fmin(1.0, dot))) * 180.0 / M_PI;
+	}
+	return sum / (double)c->n;
+}
+
+typedef struct scene {
+	shape s;
+	dp_cloud input, samples, skeleton;
+	double r;
+} scene;
+
+static void make_scene(scene *sc, int torus, int one_sided, size_t n_input, size_t n_samples, double input_noise,
+		       double sample_noise, double skeleton_noise, uint64_t seed)
+{
+	dp_rng rng;
+	dp_rng_seed(&rng, seed);
+	sc->s.torus = torus;
+	make_cloud(&sc->s, &rng, n_input, one_sided, input_noise, &sc->input);
+	make_cloud(&sc->s, &rng, n_samples, one_sided, sample_noise, &sc->samples);
+	make_skeleton(&sc->s, &rng, &sc->samples, skeleton_noise, &sc->skeleton);
+	dp_error err = {0};
+	assert_int_equal(dp_mean_spacing(sc->samples.n, sc->samples.x, sc->samples.y, sc->samples.z, &sc->r, &err),
+			 DP_OK);
+}
+
+static void free_scene(scene *sc)
+{
+	dp_cloud_free(&sc->input);
+	dp_cloud_free(&sc->samples);
+	dp_cloud_free(&sc->skeleton);
+}
+
+static void run_stage(dp_context *ctx, scene *sc, const dp_surface_params *p, dp_cloud *out, float *eta,
+		      dp_surface_stats *st)
+{
+	dp_error err = {0};
+	if (dp_surface(ctx, &sc->input, &sc->samples, &sc->skeleton, sc->r, p, out, eta, st, &err) != DP_OK)
+		fail_msg("dp_surface: %s", err.message);
+}
+
+static void report(const char *name, const scene *sc, const dp_cloud *out, const dp_surface_stats *st, double unit)
+{
+	printf("%s: n=%zu r=%.4f iterations=%d converged=%d last_move=%.4f r spacing_growth=%.3f reattached=%zu "
+	       "seconds=%.2f pairs=%.3g\n",
+	       name, out->n, sc->r, st->iterations, st->converged, st->last_mean_move, st->spacing_growth,
+	       st->reattached, st->seconds, st->pair_evaluations);
+	printf("%s: mean distance to the surface input %.4f samples %.4f output %.4f (x %s); coverage input %.3f "
+	       "samples %.3f output %.3f; output normal error %.2f deg\n",
+	       name, mean_distance(&sc->s, &sc->input) / unit, mean_distance(&sc->s, &sc->samples) / unit,
+	       mean_distance(&sc->s, out) / unit, sc->s.torus ? "rho" : "R", coverage(&sc->s, &sc->input),
+	       coverage(&sc->s, &sc->samples), coverage(&sc->s, out), normal_error_deg(&sc->s, out));
+}
+
+/* Largest distance from an inner end to the nearest point of the skeleton
+ * as it was given: re-attachment only ever picks skeleton points. */
+static double off_skeleton(const dp_cloud *given, const dp_cloud *now)
+{
+	dp_error err = {0};
+	dp_knn knn;
+	assert_int_equal(dp_knn_build(&knn, given->n, given->x, given->y, given->z, &err), DP_OK);
+	int *idx = malloc(now->n * sizeof *idx);
+	float *d2 = malloc(now->n * sizeof *d2);
+	assert_non_null(idx);
+	assert_non_null(d2);
+	assert_int_equal(dp_knn_query(&knn, now->n, now->x, now->y, now->z, 1, idx, d2, &err), DP_OK);
+	double worst = 0.0;
+	for (size_t i = 0; i < now->n; i++)
+		worst = fmax(worst, sqrt(d2[i]));
+	free(idx);
+	free(d2);
+	dp_knn_free(&knn);
+	return worst;
+}
+
+/* Complete noisy sphere: the output lies within 0.01 R of the sphere on
+ * average (issue 3), starting from samples noisier than that. */
+static void test_sphere_complete(void **state)
+{
+	(void)state;
+	scene sc;
+	make_scene(&sc, 0, 0, 8000, 2000, 0.02 * SPHERE_R, 0.02 * SPHERE_R, 0.03 * SPHERE_R, 1);
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	dp_cloud out = {0};
+	float *eta = malloc(sc.samples.n * sizeof *eta);
+	assert_non_null(eta);
+	dp_surface_stats st;
+	run_stage(tk_cl_context(), &sc, &p, &out, eta, &st);
+	report("sphere complete", &sc, &out, &st, SPHERE_R);
+	assert_true(mean_distance(&sc.s, &sc.samples) > 0.01 * SPHERE_R);
+	assert_true(mean_distance(&sc.s, &out) < 0.01 * SPHERE_R);
+	/* No point has left the data of a complete scan: every η shows input
+	 * within about 1.5 r. */
+	for (size_t i = 0; i < out.n; i++)
+		assert_true(eta[i] > 1.1f);
+	free(eta);
+	dp_cloud_free(&out);
+	free_scene(&sc);
+}
+
+/* One-sided scan: the output covers >= 90% of the true surface while the
+ * input covers about half; mean distance to the surface < 0.05 R (issue 3). */
+static void check_one_sided(int torus, const char *name, double unit)
+{
+	scene sc;
+	make_scene(&sc, torus, 1, 6000, 1500, 0.01 * unit, 0.002 * unit, 0.03 * unit, torus ? 3 : 2);
+	dp_cloud given = {0};
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_copy(&given, &sc.skeleton, &err), DP_OK);
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	dp_cloud out = {0};
+	dp_surface_stats st;
+	run_stage(tk_cl_context(), &sc, &p, &out, NULL, &st);
+	report(name, &sc, &out, &st, unit);
+	double cover_in = coverage(&sc.s, &sc.input);
+	assert_true(cover_in > 0.4 && cover_in < 0.6);
+	assert_true(coverage(&sc.s, &out) >= 0.9);
+	assert_true(mean_distance(&sc.s, &out) < 0.05 * unit);
+	assert_true(st.reattached > 0);
+	assert_true(off_skeleton(&given, &sc.skeleton) == 0.0);
+	/* Inner ends carry their surface point's final normal. */
+	for (size_t i = 0; i < out.n; i++)
+		assert_true(sc.skeleton.nx[i] == out.nx[i] && sc.skeleton.nz[i] == out.nz[i]);
+	dp_cloud_free(&given);
+	dp_cloud_free(&out);
+	free_scene(&sc);
+}
+
+static void test_sphere_one_sided(void **state)
+{
+	(void)state;
+	check_one_sided(0, "sphere one-sided", SPHERE_R);
+}
+
+static void test_torus_one_sided(void **state)
+{
+	(void)state;
+	check_one_sided(1, "torus one-sided", TORUS_RHO);
+}
+
+/* The reference and OpenCL backends run the same stage: a few iterations on
+ * a small one-sided sphere end at the same points. */
+static void test_backends_agree(void **state)
+{
+	(void)state;
+	scene sc[2];
+	for (int b = 0; b < 2; b++)
+		make_scene(&sc[b], 0, 1, 1200, 300, 0.01, 0.002, 0.03, 4);
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	p.max_iters = 5;
+	dp_cloud out[2] = {{0}, {0}};
+	dp_surface_stats st[2];
+	run_stage(tk_ref_context(), &sc[0], &p, &out[0], NULL, &st[0]);
+	run_stage(tk_cl_context(), &sc[1], &p, &out[1], NULL, &st[1]);
+	assert_int_equal(st[0].iterations, st[1].iterations);
+	double worst = 0.0, moved = 0.0;
+	for (size_t i = 0; i < out[0].n; i++) {
+		double dx = out[0].x[i] - out[1].x[i], dy = out[0].y[i] - out[1].y[i], dz = out[0].z[i] - out[1].z[i];
+		worst = fmax(worst, sqrt(dx * dx + dy * dy + dz * dz));
+		double mx = out[0].x[i] - sc[0].samples.x[i], my = out[0].y[i] - sc[0].samples.y[i],
+		       mz = out[0].z[i] - sc[0].samples.z[i];
+		moved = fmax(moved, sqrt(mx * mx + my * my + mz * mz));
+	}
+	printf("backends: largest difference %.3g r after %d iterations (largest move %.3g r)\n", worst / sc[0].r,
+	       st[0].iterations, moved / sc[0].r);
+	assert_true(moved > 0.1 * sc[0].r);
+	assert_true(worst < 1e-3 * sc[0].r);
+	for (int b = 0; b < 2; b++) {
+		dp_cloud_free(&out[b]);
+		free_scene(&sc[b]);
+	}
+}
+
+/* Mean dpoint length, in R, of the output points that have no input in reach
+ * (η = 1 up to float rounding). */
+static double unsupported_length(const dp_cloud *out, const dp_cloud *skeleton, const float *eta, size_t *count)
+{
+	double sum = 0.0;
+	*count = 0;
+	for (size_t i = 0; i < out->n; i++) {
+		if (eta[i] > 1.0f + 1e-6f)
+			continue;
+		double dx = out->x[i] - skeleton->x[i], dy = out->y[i] - skeleton->y[i], dz = out->z[i] - skeleton->z[i];
+		sum += sqrt(dx * dx + dy * dy + dz * dz);
+		(*count)++;
+	}
+	return *count ? sum / (double)*count / SPHERE_R : 0.0;
+}
+
+/* The two priors where there is no input: samples over the whole sphere, input
+ * over the upper half only. The volume prior keeps the dpoints of the lower
+ * half at their neighbours' length (R); the minimal prior shortens them. */
+static void test_priors(void **state)
+{
+	(void)state;
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	p.max_iters = 3;
+	double length[2];
+	for (int prior = 0; prior < 2; prior++) {
+		dp_rng rng;
+		dp_rng_seed(&rng, 6);
+		scene sc;
+		sc.s.torus = 0;
+		make_cloud(&sc.s, &rng, 3000, 1, 0.005, &sc.input);
+		make_cloud(&sc.s, &rng, 800, 0, 0.002, &sc.samples);
+		make_skeleton(&sc.s, &rng, &sc.samples, 0.0, &sc.skeleton);
+		dp_error err = {0};
+		assert_int_equal(dp_mean_spacing(sc.samples.n, sc.samples.x, sc.samples.y, sc.samples.z, &sc.r, &err),
+				 DP_OK);
+		p.prior = prior ? DP_SURFACE_PRIOR_MINIMAL : DP_SURFACE_PRIOR_VOLUME;
+		dp_cloud out = {0};
+		float *eta = malloc(sc.samples.n * sizeof *eta);
+		assert_non_null(eta);
+		dp_surface_stats st;
+		run_stage(tk_cl_context(), &sc, &p, &out, eta, &st);
+		size_t count;
+		length[prior] = unsupported_length(&out, &sc.skeleton, eta, &count);
+		printf("prior %s: %zu unsupported points, mean dpoint length %.4f R after %d iterations\n",
+		       prior ? "minimal" : "volume", count, length[prior], st.iterations);
+		assert_true(count > sc.samples.n / 4);
+		free(eta);
+		dp_cloud_free(&out);
+		free_scene(&sc);
+	}
+	assert_true(fabs(length[0] - 1.0) < 0.02);
+	assert_true(length[1] < 0.9);
+}
+
+/* Bad arguments fail with one message, without touching the output. */
+static void test_errors(void **state)
+{
+	(void)state;
+	scene sc;
+	make_scene(&sc, 0, 0, 200, 50, 0.0, 0.0, 0.0, 5);
+	dp_cloud out = {0};
+	dp_error err = {0};
+	dp_context *ctx = tk_ref_context();
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, 0.0, NULL, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	assert_non_null(strstr(err.message, "surface"));
+	dp_cloud empty = {0};
+	assert_int_equal(dp_surface(ctx, &empty, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
+			 DP_ERR_EMPTY);
+	sc.skeleton.n--;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	sc.skeleton.n++;
+	sc.samples.x[3] = NAN;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	assert_null(out.x);
+	free_scene(&sc);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_sphere_complete),  cmocka_unit_test(test_sphere_one_sided),
+		cmocka_unit_test(test_torus_one_sided),  cmocka_unit_test(test_backends_agree),
+		cmocka_unit_test(test_priors),           cmocka_unit_test(test_errors),
+	};
+	int rc = cmocka_run_group_tests(tests, NULL, NULL);
+	tk_teardown_contexts(NULL);
+	return rc;
+}
