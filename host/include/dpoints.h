@@ -112,6 +112,16 @@ dp_status dp_ply_write(const char *path, size_t n, const dp_ply_property *props,
 /* Writes x y z (and nx ny nz when present, faces when present) as PLY. */
 dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii, dp_error *err);
 
+/*
+ * Reads the `element edge` (int vertex1, vertex2) of a PLY file, as
+ * dp_ply_write writes it, into a malloc'ed array of 2 * *nedges vertex indices
+ * (the caller frees it with free()). Other formats, and PLY files without an
+ * edge element, give *edges = NULL, *nedges = 0 and DP_OK. Errors as for
+ * dp_cloud_read, plus an edge index out of range (DP_ERR_FORMAT); on error
+ * *edges is NULL and *nedges 0. Owner: the I/O module (host/io). Reentrant.
+ */
+dp_status dp_ply_read_edges(const char *path, uint32_t **edges, size_t *nedges, dp_error *err);
+
 /* ------------------------------------------------------- OpenCL, backends */
 
 typedef enum dp_backend_kind {

@@ -1,0 +1,178 @@
+#include "io/ply.h"
+
+#include "core/common.h"
+
+#include <string.h>
+
+/* "property list uchar int vertex_indices" has the most tokens of any line. */
+#define PLY_MAX_TOKENS 6
+
+static const struct {
+	const char *name;
+	dp_io_kind kind;
+	size_t size;
+} ply_types[] = {
+	{"char", DP_IO_INT, 1},    {"int8", DP_IO_INT, 1},     {"uchar", DP_IO_UINT, 1},
+	{"uint8", DP_IO_UINT, 1},  {"short", DP_IO_INT, 2},    {"int16", DP_IO_INT, 2},
+	{"ushort", DP_IO_UINT, 2}, {"uint16", DP_IO_UINT, 2},  {"int", DP_IO_INT, 4},
+	{"int32", DP_IO_INT, 4},   {"uint", DP_IO_UINT, 4},    {"uint32", DP_IO_UINT, 4},
+	{"float", DP_IO_FLOAT, 4}, {"float32", DP_IO_FLOAT, 4}, {"double", DP_IO_FLOAT, 8},
+	{"float64", DP_IO_FLOAT, 8},
+};
+
+static const char *const vertex_roles[] = {"x", "y", "z", "nx", "ny", "nz"};
+
+static int parse_type(const char *name, ply_type *t)
+{
+	for (size_t i = 0; i < sizeof ply_types / sizeof ply_types[0]; i++)
+		if (strcmp(name, ply_types[i].name) == 0) {
+			t->kind = ply_types[i].kind;
+			t->size = ply_types[i].size;
+			return 1;
+		}
+	return 0;
+}
+
+static dp_status header_fail(dp_io_stream *s, const char *problem, const char *word, dp_error *err)
+{
+	return dp_fail(err, DP_ERR_FORMAT, "%s: header line %zu: %s%s%s%s", s->path, s->line, problem,
+		       word ? " '" : "", word ? word : "", word ? "'" : "");
+}
+
+static dp_status add_property(dp_io_stream *s, ply_header *h, char **tok, int ntok, dp_error *err)
+{
+	if (h->nelements == 0)
+		return header_fail(s, "property before any element", NULL, err);
+	ply_element *el = &h->elements[h->nelements - 1];
+	if (el->nprops == PLY_MAX_PROPERTIES)
+		return header_fail(s, "too many properties on element", el->name, err);
+	ply_property *p = &el->props[el->nprops];
+	const char *name;
+	memset(p, 0, sizeof *p);
+	p->role = ROLE_NONE;
+	if (ntok == 5 && strcmp(tok[1], "list") == 0) {
+		p->is_list = 1;
+		if (!parse_type(tok[2], &p->count_type))
+			return header_fail(s, "unknown type", tok[2], err);
+		if (p->count_type.kind == DP_IO_FLOAT)
+			return header_fail(s, "list length type must be an integer type, not", tok[2], err);
+		if (!parse_type(tok[3], &p->type))
+			return header_fail(s, "unknown type", tok[3], err);
+		name = tok[4];
+	} else if (ntok == 3) {
+		if (!parse_type(tok[1], &p->type))
+			return header_fail(s, "unknown type", tok[1], err);
+		name = tok[2];
+	} else {
+		return header_fail(s, "expected 'property TYPE NAME' or 'property list TYPE TYPE NAME'", NULL, err);
+	}
+	if (strcmp(el->name, "vertex") == 0 && !p->is_list) {
+		for (int r = ROLE_X; r <= ROLE_NZ; r++)
+			if (strcmp(name, vertex_roles[r]) == 0)
+				p->role = r;
+	}
+	if (strcmp(el->name, "face") == 0 && p->is_list &&
+	    (strcmp(name, "vertex_indices") == 0 || strcmp(name, "vertex_index") == 0))
+		p->role = ROLE_FACE;
+	if (strcmp(el->name, "edge") == 0 && !p->is_list) {
+		if (strcmp(name, "vertex1") == 0)
+			p->role = ROLE_EDGE1;
+		else if (strcmp(name, "vertex2") == 0)
+			p->role = ROLE_EDGE2;
+	}
+	el->nprops++;
+	return DP_OK;
+}
+
+static dp_status add_element(dp_io_stream *s, ply_header *h, char **tok, int ntok, dp_error *err)
+{
+	if (ntok != 3)
+		return header_fail(s, "expected 'element NAME COUNT'", NULL, err);
+	if (h->nelements == PLY_MAX_ELEMENTS)
+		return header_fail(s, "too many elements", NULL, err);
+	ply_element *el = &h->elements[h->nelements];
+	memset(el, 0, sizeof *el);
+	if (!dp_io_parse_count(tok[2], &el->count))
+		return header_fail(s, "bad element count", tok[2], err);
+	snprintf(el->name, sizeof el->name, "%s", tok[1]);
+	if (strcmp(el->name, "vertex") == 0) {
+		if (h->vertex >= 0)
+			return header_fail(s, "second vertex element", NULL, err);
+		h->vertex = h->nelements;
+	}
+	h->nelements++;
+	return DP_OK;
+}
+
+static dp_status set_format(dp_io_stream *s, ply_header *h, char **tok, int ntok, dp_error *err)
+{
+	if (ntok != 3)
+		return header_fail(s, "expected 'format FORMAT VERSION'", NULL, err);
+	if (strcmp(tok[1], "ascii") == 0)
+		h->format = PLY_ASCII;
+	else if (strcmp(tok[1], "binary_little_endian") == 0)
+		h->format = PLY_BINARY_LE;
+	else if (strcmp(tok[1], "binary_big_endian") == 0)
+		h->format = PLY_BINARY_BE;
+	else
+		return header_fail(s, "unknown format", tok[1], err);
+	return DP_OK;
+}
+
+/* Checks that the vertex element has usable x, y, z and notes the normals. */
+static dp_status check_vertex(dp_io_stream *s, ply_header *h, dp_error *err)
+{
+	if (h->vertex < 0)
+		return dp_fail(err, DP_ERR_FORMAT, "%s: no vertex element in the header", s->path);
+	const ply_element *el = &h->elements[h->vertex];
+	int seen[ROLE_NZ + 1] = {0};
+	for (int i = 0; i < el->nprops; i++)
+		if (el->props[i].role >= ROLE_X && el->props[i].role <= ROLE_NZ)
+			seen[el->props[i].role] = 1;
+	if (!seen[ROLE_X] || !seen[ROLE_Y] || !seen[ROLE_Z])
+		return dp_fail(err, DP_ERR_FORMAT, "%s: the vertex element lacks an x, y or z property", s->path);
+	h->normals = seen[ROLE_NX] && seen[ROLE_NY] && seen[ROLE_NZ];
+	return DP_OK;
+}
+
+dp_status dp_io_ply_read_header(dp_io_stream *s, ply_header *h, dp_error *err)
+{
+	char *line, *tok[PLY_MAX_TOKENS];
+	int have_format = 0;
+	dp_status st = dp_io_line(s, &line, err);
+	if (st != DP_OK)
+		return st;
+	if (!line || dp_io_split(line, tok, 1) != 1 || strcmp(tok[0], "ply") != 0)
+		return dp_fail(err, DP_ERR_FORMAT, "%s: not a PLY file (the first line is not 'ply')", s->path);
+	h->vertex = -1;
+	for (;;) {
+		if ((st = dp_io_line(s, &line, err)) != DP_OK)
+			return st;
+		if (!line)
+			return dp_fail(err, DP_ERR_FORMAT, "%s: the header has no end_header line", s->path);
+		if (strncmp(line, "comment", 7) == 0 || strncmp(line, "obj_info", 8) == 0)
+			continue;
+		int ntok = dp_io_split(line, tok, PLY_MAX_TOKENS);
+		if (ntok == 0)
+			continue;
+		if (ntok > PLY_MAX_TOKENS)
+			return header_fail(s, "too many words", NULL, err);
+		if (strcmp(tok[0], "end_header") == 0)
+			break;
+		if (strcmp(tok[0], "format") == 0) {
+			st = set_format(s, h, tok, ntok, err);
+			have_format = 1;
+		} else if (strcmp(tok[0], "element") == 0) {
+			st = add_element(s, h, tok, ntok, err);
+		} else if (strcmp(tok[0], "property") == 0) {
+			st = add_property(s, h, tok, ntok, err);
+		} else {
+			st = header_fail(s, "unknown keyword", tok[0], err);
+		}
+		if (st != DP_OK)
+			return st;
+	}
+	if (!have_format)
+		return dp_fail(err, DP_ERR_FORMAT, "%s: the header has no format line", s->path);
+	return check_vertex(s, h, err);
+}

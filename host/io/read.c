@@ -1,0 +1,86 @@
+#include "io/io.h"
+
+#include "core/common.h"
+
+#include <string.h>
+#include <strings.h>
+
+static const struct {
+	const char *extension;
+	dp_io_reader read;
+} readers[] = {
+	{"ply", dp_io_read_ply}, {"xyz", dp_io_read_xyz}, {"xyzn", dp_io_read_xyz}, {"pwn", dp_io_read_xyz},
+	{"txt", dp_io_read_xyz}, {"pts", dp_io_read_xyz}, {"pcd", dp_io_read_pcd}, {"off", dp_io_read_off},
+	{"obj", dp_io_read_obj},
+};
+
+/* The extension of the file name (not of a folder in the path), or "". */
+static const char *extension(const char *path)
+{
+	const char *slash = strrchr(path, '/');
+	const char *name = slash ? slash + 1 : path;
+	const char *dot = strrchr(name, '.');
+	return dot && dot != name ? dot + 1 : "";
+}
+
+dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err)
+{
+	if (!cloud)
+		return dp_fail(err, DP_ERR_ARG, "dp_cloud_read: cloud is NULL");
+	memset(cloud, 0, sizeof *cloud);
+	if (!path)
+		return dp_fail(err, DP_ERR_ARG, "dp_cloud_read: path is NULL");
+	if (flags & ~DP_READ_MESH)
+		return dp_fail(err, DP_ERR_ARG, "%s: unknown read flags 0x%x", path, (unsigned)flags);
+	dp_io_stream s;
+	dp_status st = dp_io_open(&s, path, err);
+	if (st != DP_OK)
+		return st;
+	const char *ext = extension(path);
+	dp_io_reader read = NULL;
+	for (size_t i = 0; i < sizeof readers / sizeof readers[0]; i++)
+		if (strcasecmp(ext, readers[i].extension) == 0)
+			read = readers[i].read;
+	if (!read) {
+		st = dp_fail(err, DP_ERR_FORMAT,
+			     "%s: unknown point file format '%s' (expected .ply, .xyz, .xyzn, .pwn, .txt, .pts, .pcd, .off or .obj)",
+			     path, ext);
+	} else if (s.size == 0) {
+		st = dp_fail(err, DP_ERR_EMPTY, "%s: empty file", path);
+	} else {
+		dp_io_builder b;
+		dp_io_builder_init(&b);
+		st = read(&s, &b, flags, err);
+		if (st == DP_OK)
+			st = dp_io_builder_finish(&b, path, cloud, err);
+		dp_io_builder_free(&b);
+	}
+	dp_io_close(&s);
+	return st;
+}
+
+dp_status dp_ply_read_edges(const char *path, uint32_t **edges, size_t *nedges, dp_error *err)
+{
+	if (!edges || !nedges)
+		return dp_fail(err, DP_ERR_ARG, "dp_ply_read_edges: edges or nedges is NULL");
+	*edges = NULL;
+	*nedges = 0;
+	if (!path)
+		return dp_fail(err, DP_ERR_ARG, "dp_ply_read_edges: path is NULL");
+	if (strcasecmp(extension(path), "ply") != 0)
+		return DP_OK;
+	dp_io_stream s;
+	dp_status st = dp_io_open(&s, path, err);
+	if (st != DP_OK)
+		return st;
+	if (s.size == 0) {
+		st = dp_fail(err, DP_ERR_EMPTY, "%s: empty file", path);
+	} else {
+		dp_io_builder b;
+		dp_io_builder_init(&b);
+		st = dp_io_read_ply_edges(&s, &b, edges, nedges, err);
+		dp_io_builder_free(&b);
+	}
+	dp_io_close(&s);
+	return st;
+}

@@ -1,0 +1,201 @@
+#include "io/io.h"
+
+#include "core/common.h"
+
+#include <errno.h>
+#include <fcntl.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+#include <unistd.h>
+
+/* Large enough that read(2) and refills cost nothing next to parsing. */
+#define STREAM_CHUNK ((size_t)1 << 20)
+/* Slack over a small file's size, so reaching its end needs no regrowth. */
+#define STREAM_MIN_CAP ((size_t)64)
+/* Longest accepted line. Real point files have lines of tens of bytes; the
+ * bound stops a binary file without newlines from being slurped into memory
+ * by the header parser. */
+#define STREAM_MAX_LINE ((size_t)16 << 20)
+
+dp_status dp_io_open(dp_io_stream *s, const char *path, dp_error *err)
+{
+	memset(s, 0, sizeof *s);
+	s->fd = -1;
+	s->path = path;
+	int fd = open(path, O_RDONLY | O_CLOEXEC);
+	if (fd < 0)
+		return dp_fail(err, DP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
+	struct stat st;
+	if (fstat(fd, &st) != 0) {
+		int e = errno;
+		close(fd);
+		return dp_fail(err, DP_ERR_IO, "%s: cannot stat: %s", path, strerror(e));
+	}
+	if (S_ISDIR(st.st_mode)) {
+		close(fd);
+		return dp_fail(err, DP_ERR_IO, "%s: cannot read: %s", path, strerror(EISDIR));
+	}
+	s->size = S_ISREG(st.st_mode) ? (uint64_t)st.st_size : UINT64_MAX;
+	/* A small file gets a buffer of its own size. */
+	s->cap = s->size < STREAM_CHUNK ? (size_t)s->size + STREAM_MIN_CAP : STREAM_CHUNK;
+	s->buf = malloc(s->cap + 1);
+	if (!s->buf) {
+		close(fd);
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for the read buffer", path);
+	}
+	s->fd = fd;
+	return DP_OK;
+}
+
+void dp_io_close(dp_io_stream *s)
+{
+	if (s->fd >= 0)
+		close(s->fd);
+	free(s->buf);
+	s->fd = -1;
+	s->buf = NULL;
+}
+
+/* Makes at least `need` unread bytes available unless the file ends first. */
+static dp_status fill(dp_io_stream *s, size_t need, dp_error *err)
+{
+	if (s->end - s->pos >= need || s->eof)
+		return DP_OK;
+	if (s->pos > 0) {
+		memmove(s->buf, s->buf + s->pos, s->end - s->pos);
+		s->offset += s->pos;
+		s->end -= s->pos;
+		s->pos = 0;
+	}
+	if (need > s->cap) {
+		size_t cap = s->cap * 2 > need ? s->cap * 2 : need;
+		char *buf = realloc(s->buf, cap + 1);
+		if (!buf)
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory growing the read buffer to %zu bytes",
+				       s->path, cap);
+		s->buf = buf;
+		s->cap = cap;
+	}
+	while (s->end < need && !s->eof) {
+		ssize_t got = read(s->fd, s->buf + s->end, s->cap - s->end);
+		if (got < 0) {
+			if (errno == EINTR)
+				continue;
+			return dp_fail(err, DP_ERR_IO, "%s: read failed: %s", s->path, strerror(errno));
+		}
+		if (got == 0)
+			s->eof = 1;
+		s->end += (size_t)got;
+	}
+	return DP_OK;
+}
+
+static char *end_line(dp_io_stream *s, char *start, char *stop)
+{
+	*stop = '\0';
+	if (stop > start && stop[-1] == '\r')
+		stop[-1] = '\0';
+	s->line++;
+	return start;
+}
+
+dp_status dp_io_line(dp_io_stream *s, char **line, dp_error *err)
+{
+	size_t scanned = 0;
+	*line = NULL;
+	for (;;) {
+		char *start = s->buf + s->pos;
+		size_t have = s->end - s->pos;
+		char *nl = memchr(start + scanned, '\n', have - scanned);
+		if (nl) {
+			s->pos += (size_t)(nl - start) + 1;
+			*line = end_line(s, start, nl);
+			return DP_OK;
+		}
+		if (s->eof) {
+			if (have > 0) {
+				s->pos = s->end;
+				*line = end_line(s, start, start + have);
+			}
+			return DP_OK;
+		}
+		if (have >= STREAM_MAX_LINE)
+			return dp_fail(err, DP_ERR_FORMAT, "%s: line %zu is longer than %zu bytes", s->path,
+				       s->line + 1, STREAM_MAX_LINE);
+		scanned = have;
+		dp_status st = fill(s, have + 1, err);
+		if (st != DP_OK)
+			return st;
+	}
+}
+
+dp_status dp_io_bytes(dp_io_stream *s, size_t n, const unsigned char **bytes, dp_error *err)
+{
+	*bytes = NULL;
+	dp_status st = fill(s, n, err);
+	if (st != DP_OK || s->end - s->pos < n)
+		return st;
+	*bytes = (const unsigned char *)s->buf + s->pos;
+	s->pos += n;
+	return DP_OK;
+}
+
+dp_status dp_io_skip(dp_io_stream *s, uint64_t n, int *skipped, dp_error *err)
+{
+	*skipped = 0;
+	while (n > 0) {
+		size_t step = n < s->cap ? (size_t)n : s->cap;
+		dp_status st = fill(s, step, err);
+		if (st != DP_OK)
+			return st;
+		if (s->end - s->pos < step)
+			return DP_OK;
+		s->pos += step;
+		n -= step;
+	}
+	*skipped = 1;
+	return DP_OK;
+}
+
+uint64_t dp_io_remaining(const dp_io_stream *s)
+{
+	if (s->size == UINT64_MAX)
+		return UINT64_MAX;
+	uint64_t done = s->offset + s->pos;
+	return s->size > done ? s->size - done : 0;
+}
+
+dp_status dp_io_check_count(const dp_io_stream *s, uint64_t count, uint64_t min_bytes,
+			    const char *what, dp_error *err)
+{
+	uint64_t left = dp_io_remaining(s);
+	if (left == UINT64_MAX || count == 0 || min_bytes == 0)
+		return DP_OK;
+	/* +1: the last text record may end without its separator. */
+	if (count <= (left + 1) / min_bytes)
+		return DP_OK;
+	if (count > UINT64_MAX / min_bytes)
+		return dp_fail(err, DP_ERR_FORMAT, "%s: header declares %llu %s, more than any file can hold",
+			       s->path, (unsigned long long)count, what);
+	return dp_fail(err, DP_ERR_FORMAT,
+		       "%s: header declares %llu %s (at least %llu bytes) but only %llu bytes follow",
+		       s->path, (unsigned long long)count, what, (unsigned long long)(count * min_bytes),
+		       (unsigned long long)left);
+}
+
+dp_status dp_io_expect_end(dp_io_stream *s, char comment, const char *what, dp_error *err)
+{
+	for (;;) {
+		char *line, *cur;
+		dp_status st = dp_io_line(s, &line, err);
+		if (st != DP_OK || !line)
+			return st;
+		if (comment)
+			dp_io_strip_comment(line, comment);
+		cur = line;
+		if (dp_io_scan_skip(&cur))
+			return dp_fail(err, DP_ERR_FORMAT, "%s: line %zu: data continues after the %s", s->path,
+				       s->line, what);
+	}
+}
