@@ -1,0 +1,200 @@
+/* dpoints consolidate: the whole pipeline on one input, or a batch of inputs
+ * sharing one OpenCL context and built program. */
+#include "cli/consolidate.h"
+#include "core/common.h"
+
+#include <errno.h>
+#include <stdlib.h>
+#include <string.h>
+#include <sys/stat.h>
+
+void dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
+{
+	static double last_print;
+	static const char *last_stage;
+	(void)user;
+	/* one line a second, and the first iteration of every stage */
+	if (stage == last_stage && elapsed - last_print < 1.0)
+		return;
+	last_stage = stage;
+	last_print = elapsed;
+	if (strcmp(stage, "sink") == 0)
+		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, %.0f settled\n", elapsed, stage, iteration, value);
+	else if (strcmp(stage, "wlop") == 0)
+		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, largest move %.4f h\n", elapsed, stage, iteration, value);
+	else
+		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, mean move %.4f r\n", elapsed, stage, iteration, value);
+}
+
+int dp_cli_mkdir(const char *cmd, const char *dir)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s", dir);
+	for (char *p = path + 1; *p; p++) {
+		if (*p != '/')
+			continue;
+		*p = '\0';
+		if (mkdir(path, 0777) != 0 && errno != EEXIST)
+			goto fail;
+		*p = '/';
+	}
+	if (mkdir(path, 0777) != 0 && errno != EEXIST)
+		goto fail;
+	struct stat sb;
+	if (stat(dir, &sb) == 0 && S_ISDIR(sb.st_mode))
+		return 0;
+fail:
+	fprintf(stderr, "dpoints %s: %s: cannot create output folder: %s\n", cmd, dir, strerror(errno));
+	return DP_EXIT_INPUT;
+}
+
+/* OUTDIR/<input name without folder and extension>, made unique in the batch. */
+static void batch_dir(char *out, size_t cap, const char *outdir, const char *input, size_t index,
+		      const char *const *inputs)
+{
+	const char *base = strrchr(input, '/');
+	base = base ? base + 1 : input;
+	const char *dot = strrchr(base, '.');
+	int len = dot && dot != base ? (int)(dot - base) : (int)strlen(base);
+	int clash = 0;
+	for (size_t j = 0; j < index; j++) {
+		const char *b = strrchr(inputs[j], '/');
+		b = b ? b + 1 : inputs[j];
+		if (strncmp(b, base, (size_t)len) == 0 && (b[len] == '.' || b[len] == '\0'))
+			clash = 1;
+	}
+	if (clash)
+		snprintf(out, cap, "%s/%.*s-%zu", outdir, len, base, index + 1);
+	else
+		snprintf(out, cap, "%s/%.*s", outdir, len, base);
+}
+
+#define MAX_INPUTS 4096
+
+int dp_cmd_consolidate(int argc, char **argv)
+{
+	const char *cmd = "consolidate";
+	dp_consolidate_job job;
+	memset(&job, 0, sizeof job);
+	dp_params_default(&job.params);
+	const char *outdir = NULL, *device = NULL;
+	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, gaussian = 0;
+	job.up_axis = 1;
+	double sigma_p = job.params.sink.sigma_p;
+	dp_params *p = &job.params;
+	cli_opt opts[] = {
+		{"--output", CLI_STRING, &outdir, "output folder (one sub-folder per input in a batch)", NULL, NULL},
+		{"--samples", CLI_SIZE, &p->wlop.samples, "number of deep points m (WLOP samples)", NULL, NULL},
+		{"--ratio", CLI_DOUBLE, &p->wlop.ratio, "m = ratio * input points, when --samples is not given", NULL,
+		 NULL},
+		{"--radius", CLI_DOUBLE, &p->wlop.h, "WLOP support radius h (0 = h-factor * initial sample spacing)",
+		 NULL, NULL},
+		{"--h-factor", CLI_DOUBLE, &p->wlop.h_factor, "default h in mean NN spacings of the initial samples",
+		 NULL, NULL},
+		{"--wlop-iters", CLI_INT, &p->wlop.max_iters, "WLOP iteration cap", NULL, NULL},
+		{"--wlop-tol", CLI_DOUBLE, &p->wlop.tol, "WLOP stops when the largest move is below tol * h", NULL,
+		 NULL},
+		{"--wlop-mu", CLI_DOUBLE, &p->wlop.mu, "WLOP repulsion weight", NULL, NULL},
+		{"--theta-k", CLI_DOUBLE, &p->wlop.theta_k, "WLOP theta(d) = exp(-k d^2/h^2)", NULL, NULL},
+		{"--gaussian", CLI_FLAG, &gaussian, "WLOP: Gaussian-mean attraction instead of the L1 weight", NULL,
+		 NULL},
+		{"--sqrt-density", CLI_FLAG, &p->wlop.sqrt_density, "WLOP: sample density sqrt(1 + sum theta)", NULL,
+		 NULL},
+		{"--seed", CLI_U64, &p->wlop.seed, "seed of the initial sample choice", NULL, NULL},
+		{"--normal-k", CLI_INT, &p->normals.k, "PCA neighbours per normal", NULL, NULL},
+		{"--graph-k", CLI_INT, &p->normals.k_graph, "neighbours in the orientation graph", NULL, NULL},
+		{"--viewpoint", CLI_VEC3, p->normals.viewpoint, "orient normals towards this scanner position", NULL,
+		 &p->normals.use_viewpoint},
+		{"--omega", CLI_DOUBLE, &p->sink.omega_deg, "settle angle omega, degrees (paper: 45)", NULL, NULL},
+		{"--sigma-p", CLI_DOUBLE, &sigma_p, "static neighbourhood sigma_p, in r, of sinking and surface", NULL,
+		 NULL},
+		{"--settle-radius", CLI_DOUBLE, &p->sink.settle_radius_r, "settle test radius, in r (DESIGN 4.1)",
+		 NULL, NULL},
+		{"--front-factor", CLI_DOUBLE, &p->sink.front_factor,
+		 "opposing front: surface points farther apart than this * settle radius", NULL, NULL},
+		{"--first-step", CLI_DOUBLE, &p->sink.first_step_r, "first sinking step, in r", NULL, NULL},
+		{"--slow-fraction", CLI_DOUBLE, &p->sink.slow_fraction,
+		 "a point settles when its step falls below this * first step", NULL, NULL},
+		{"--sink-iters", CLI_INT, &p->sink.max_iters, "sinking iteration cap", NULL, NULL},
+		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
+		 NULL},
+		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},
+		{"--mu", CLI_DOUBLE, &p->skeleton.mu, "skeleton repulsion mu", NULL, NULL},
+		{"--cutoff", CLI_DOUBLE, &p->skeleton.cutoff, "skeleton sums stop at this ellipsoid distance, in r",
+		 NULL, NULL},
+		{"--min-axis-weight", CLI_DOUBLE, &p->skeleton.min_axis_weight,
+		 "skeleton repulsion ignores axes of smaller weight", NULL, NULL},
+		{"--skeleton-iters", CLI_INT, &p->skeleton.max_iters, "skeleton iteration cap", NULL, NULL},
+		{"--mu-hat", CLI_DOUBLE, &p->surface.mu_hat, "surface tangential repulsion mu-hat", NULL, NULL},
+		{"--prior", CLI_CHOICE, &prior, "surface shape prior (Eq. 8 or Eq. 9)", "volume|minimal", NULL},
+		{"--normal-radius", CLI_DOUBLE, &p->surface.normal_radius_r, "surface PCA normal radius, in r", NULL,
+		 NULL},
+		{"--no-reattach", CLI_FLAG, &no_reattach, "keep inner ends where the skeleton put them", NULL, NULL},
+		{"--reattach-radius", CLI_DOUBLE, &p->surface.reattach_radius_r, "re-attachment search radius, in r",
+		 NULL, NULL},
+		{"--surface-iters", CLI_INT, &p->surface.max_iters, "surface iteration cap", NULL, NULL},
+		CLI_BACKEND_OPTS(backend, device),
+		{"--save-stages", CLI_FLAG, &job.save_stages, "also write wlop.ply and anchors.ply", NULL, NULL},
+		{"--render", CLI_FLAG, &job.render, "also render input, skeleton, surface and deep points to PNGs",
+		 NULL, NULL},
+		{"--up", CLI_CHOICE, &job.up_axis, "vertical axis of the renders", "x|y|z", NULL},
+		{"--ascii", CLI_FLAG, &job.ascii, "write ascii PLY", NULL, NULL},
+		{"--quiet", CLI_FLAG, &quiet, "no progress on stderr", NULL, NULL},
+	};
+	static const char *inputs[MAX_INPUTS];
+	size_t ninputs;
+	int help;
+	int rc = cli_parse(cmd, "INPUT [INPUT ...] -o OUTDIR [options]", argc, argv, 2, opts,
+			   sizeof opts / sizeof opts[0], inputs, MAX_INPUTS, &ninputs, &help);
+	if (rc || help)
+		return rc;
+	if (ninputs == 0 || !outdir) {
+		fprintf(stderr, "dpoints %s: needs INPUT and -o OUTDIR (see dpoints %s --help)\n", cmd, cmd);
+		return DP_EXIT_INPUT;
+	}
+	p->sink.sigma_p = p->surface.sigma_p = sigma_p;
+	p->surface.prior = (dp_surface_prior)prior;
+	p->surface.reattach = !no_reattach;
+	p->wlop.weight = gaussian ? DP_WLOP_GAUSSIAN : DP_WLOP_L1;
+	if ((rc = dp_cli_mkdir(cmd, outdir)))
+		return rc;
+
+	dp_context *ctx = NULL;
+	if ((rc = cli_open_context(cmd, backend, device, &ctx)))
+		return rc;
+	if (!quiet)
+		dp_context_set_progress(ctx, dp_cli_progress, NULL);
+	job.backend_name = backend ? "ref" : "cl";
+	job.device_name = dp_context_device_name(ctx);
+
+	size_t failed = 0;
+	int first_failure = 0;
+	dp_consolidate_summary *summary = calloc(ninputs, sizeof *summary);
+	if (!summary) {
+		dp_context_free(ctx);
+		fprintf(stderr, "dpoints %s: out of memory\n", cmd);
+		return DP_EXIT_NOMEM;
+	}
+	for (size_t i = 0; i < ninputs; i++) {
+		char dir[4096];
+		if (ninputs == 1)
+			snprintf(dir, sizeof dir, "%s", outdir);
+		else
+			batch_dir(dir, sizeof dir, outdir, inputs[i], i, inputs);
+		if (!quiet && ninputs > 1)
+			fprintf(stderr, "[%zu/%zu] %s\n", i + 1, ninputs, inputs[i]);
+		int r = dp_cli_consolidate_one(cmd, ctx, &job, inputs[i], dir, &summary[i]);
+		if (r) {
+			failed++;
+			if (!first_failure)
+				first_failure = r;
+		}
+	}
+	if (ninputs > 1)
+		dp_cli_print_batch_summary(stdout, inputs, summary, ninputs);
+	free(summary);
+	dp_context_free(ctx);
+	if (failed && ninputs > 1)
+		fprintf(stderr, "dpoints %s: %zu of %zu inputs failed\n", cmd, failed, ninputs);
+	return first_failure;
+}

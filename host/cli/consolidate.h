@@ -1,0 +1,43 @@
+#ifndef DP_CLI_CONSOLIDATE_H
+#define DP_CLI_CONSOLIDATE_H
+
+#include "cli/session.h"
+
+/* What is the same for every input of a consolidate run (and the demo). */
+typedef struct dp_consolidate_job {
+	dp_params params;
+	int save_stages, render, ascii;
+	int up_axis; /* vertical axis of the renders: 0 x, 1 y, 2 z */
+	const char *backend_name, *device_name;
+} dp_consolidate_job;
+
+/* One row of the batch summary. */
+typedef struct dp_consolidate_summary {
+	int ok;
+	char error[DP_ERROR_MESSAGE_MAX];
+	size_t points_in, points_out;
+	double r, seconds;
+	int iterations[4]; /* wlop, sink, skeleton, surface */
+} dp_consolidate_summary;
+
+/* Reads `input`, runs the pipeline and writes every output into `dir`
+ * (created). Returns 0 or the exit code, after printing one error line. */
+int dp_cli_consolidate_one(const char *cmd, dp_context *ctx, const dp_consolidate_job *job, const char *input,
+			   const char *dir, dp_consolidate_summary *summary);
+/* The same, for an input already in memory (the demo), named `label`. */
+int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolidate_job *job, const dp_cloud *in,
+			     const char *label, const char *dir, dp_result *result, dp_consolidate_summary *summary);
+
+/* input.png, skeleton.png, surface.png and dpoints.png in `dir`; xyz/edges
+ * are the deep points as dpoints.ply holds them (2n vertices, n edges). */
+dp_status dp_cli_render_result(const dp_cloud *in, const dp_result *r, const float *x, const float *y,
+			       const float *z, const uint32_t *edges, int up_axis, const char *dir, dp_error *err);
+
+void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_consolidate_summary *rows,
+				size_t n);
+/* Progress lines on stderr, at most one a second per stage. */
+void dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
+/* mkdir -p; 0 or an exit code after one error line. */
+int dp_cli_mkdir(const char *cmd, const char *dir);
+
+#endif

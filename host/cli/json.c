@@ -1,0 +1,85 @@
+#include "cli/cli.h"
+
+#include <math.h>
+
+static void key(json_writer *w, const char *k)
+{
+	if (!w->first[w->depth])
+		fputc(',', w->f);
+	w->first[w->depth] = 0;
+	if (w->depth)
+		fprintf(w->f, "\n%*s", 2 * w->depth, "");
+	if (k)
+		fprintf(w->f, "\"%s\": ", k);
+}
+
+void json_begin(json_writer *w, FILE *f)
+{
+	w->f = f;
+	w->depth = 0;
+	w->first[0] = 1;
+}
+
+static void open_(json_writer *w, const char *k, char c)
+{
+	key(w, k);
+	fputc(c, w->f);
+	if (w->depth < 15)
+		w->depth++;
+	w->first[w->depth] = 1;
+}
+
+static void close_(json_writer *w, char c)
+{
+	int empty = w->first[w->depth];
+	w->depth--;
+	if (!empty)
+		fprintf(w->f, "\n%*s", 2 * w->depth, "");
+	fputc(c, w->f);
+}
+
+void json_object(json_writer *w, const char *k) { open_(w, k, '{'); }
+void json_end_object(json_writer *w) { close_(w, '}'); }
+void json_array(json_writer *w, const char *k) { open_(w, k, '['); }
+void json_end_array(json_writer *w) { close_(w, ']'); }
+
+void json_num(json_writer *w, const char *k, double v)
+{
+	key(w, k);
+	if (isfinite(v))
+		fprintf(w->f, "%.10g", v);
+	else
+		fputs("null", w->f);
+}
+
+void json_int(json_writer *w, const char *k, long long v)
+{
+	key(w, k);
+	fprintf(w->f, "%lld", v);
+}
+
+void json_str(json_writer *w, const char *k, const char *v)
+{
+	key(w, k);
+	fputc('"', w->f);
+	for (const char *p = v; *p; p++) {
+		if (*p == '"' || *p == '\\')
+			fprintf(w->f, "\\%c", *p);
+		else if ((unsigned char)*p < 0x20)
+			fprintf(w->f, "\\u%04x", *p);
+		else
+			fputc(*p, w->f);
+	}
+	fputc('"', w->f);
+}
+
+void json_bool(json_writer *w, const char *k, int v)
+{
+	key(w, k);
+	fputs(v ? "true" : "false", w->f);
+}
+
+void json_finish(json_writer *w)
+{
+	fputc('\n', w->f);
+}

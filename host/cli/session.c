@@ -1,0 +1,44 @@
+/* What every computing subcommand shares: the backend and device options,
+ * opening the context, checking outputs up front, and atomic JSON reports. */
+#include "cli/session.h"
+
+#include "io/io.h"
+
+#include <libgen.h>
+#include <string.h>
+#include <unistd.h>
+
+int cli_open_context(const char *cmd, int backend, const char *device, dp_context **ctx)
+{
+	dp_error err = {0};
+	if (dp_context_create(ctx, backend == 1 ? DP_BACKEND_REF : DP_BACKEND_CL, device, &err) != DP_OK)
+		return dp_cli_fail(cmd, &err);
+	return 0;
+}
+
+int cli_check_output(const char *cmd, const char *path)
+{
+	char copy[4096];
+	snprintf(copy, sizeof copy, "%s", path);
+	const char *dir = dirname(copy);
+	if (access(dir, W_OK) != 0) {
+		fprintf(stderr, "dpoints %s: %s: cannot write into folder '%s'\n", cmd, path, dir);
+		return DP_EXIT_INPUT;
+	}
+	return 0;
+}
+
+int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg), const void *arg)
+{
+	dp_error err = {0};
+	dp_atomic_file af;
+	if (dp_atomic_open(&af, path, &err) != DP_OK)
+		return dp_cli_fail(cmd, &err);
+	json_writer w;
+	json_begin(&w, af.f);
+	fill(&w, arg);
+	json_finish(&w);
+	if (dp_atomic_commit(&af, &err) != DP_OK)
+		return dp_cli_fail(cmd, &err);
+	return 0;
+}

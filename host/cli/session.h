@@ -1,0 +1,27 @@
+#ifndef DP_CLI_SESSION_H
+#define DP_CLI_SESSION_H
+
+#include "cli/cli.h"
+
+/* The options every computing command takes, as table rows. */
+#define CLI_BACKEND_OPTS(backend, device)                                                              \
+	{"--backend", CLI_CHOICE, &(backend), "kernels on an OpenCL device, or the scalar reference", "cl|ref", \
+	 NULL},                                                                                        \
+	{"--device", CLI_STRING, &(device),                                                            \
+	 "OpenCL device: index or name substring from `dpoints devices` (env DPOINTS_DEVICE)", NULL, NULL}
+
+/* backend: 0 = cl, 1 = ref (the order of CLI_BACKEND_OPTS's choices). Returns
+ * 0 or an exit code after printing the error. */
+int cli_open_context(const char *cmd, int backend, const char *device, dp_context **ctx);
+/* Fails early (exit code) when the folder of `path` is not writable, so a long
+ * run does not end in an unwritable output. */
+int cli_check_output(const char *cmd, const char *path);
+/* Writes a JSON document through a temporary file and a rename. */
+int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg),
+		   const void *arg);
+
+/* Parameter blocks of reports, shared by wlop and consolidate. */
+void dp_cli_json_wlop_params(json_writer *w, const dp_wlop_params *p);
+void dp_cli_json_normal_params(json_writer *w, const dp_normal_params *p);
+
+#endif
