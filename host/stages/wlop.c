@@ -1,0 +1,359 @@
+/* WLOP (Huang et al. 2009; DESIGN 4.0): m random input points move, Jacobi
+ * style, to the density-weighted mean (or L1 median) of the input near them
+ * plus a repulsion from each other, until the mean move is below tol * h.
+ *
+ * The mean, not the largest move as DESIGN 4.0 has it: on real scans a few
+ * samples in sparse regions never settle. With one or two input points and
+ * one other sample within h, the normalised repulsion moves a sample by
+ * mu times its neighbour's distance whatever θ is, and the attraction pulls it
+ * back: on the statue of the paper's Fig. 12 the largest move stays at
+ * 0.4-0.6 h through 200 iterations while the mean falls steadily. */
+#include "backend/wlop_ops.h"
+#include "core/common.h"
+#include "knn/knn.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+void dp_wlop_params_default(dp_wlop_params *p)
+{
+	memset(p, 0, sizeof *p);
+	p->samples = 0;
+	p->ratio = 0.1;
+	p->h = 0.0;
+	p->h_factor = 5.0;
+	p->mu = 0.45;
+	p->max_iters = 100;
+	p->tol = 0.002;
+	p->theta_k = 4.0;
+	p->weight = DP_WLOP_GAUSSIAN;
+	p->sqrt_density = 0;
+	p->seed = 1;
+}
+
+static dp_status check_params(const dp_wlop_params *p, dp_error *err)
+{
+	if (p->samples == 0 && !(p->ratio > 0.0 && p->ratio <= 1.0))
+		return dp_fail(err, DP_ERR_ARG, "wlop: sample ratio %g is not in (0, 1]", p->ratio);
+	if (!isfinite(p->h) || (p->h <= 0.0 && !(p->h_factor > 0.0 && isfinite(p->h_factor))))
+		return dp_fail(err, DP_ERR_ARG, "wlop: support radius h = %g (factor %g) is not usable", p->h,
+			       p->h_factor);
+	/* μ < 1/2 is the convergence condition of LOP (Lipman et al. 2007). */
+	if (!(p->mu >= 0.0 && p->mu < 0.5))
+		return dp_fail(err, DP_ERR_ARG, "wlop: repulsion weight mu = %g is not in [0, 0.5)", p->mu);
+	if (p->max_iters < 0)
+		return dp_fail(err, DP_ERR_ARG, "wlop: max_iters = %d is negative", p->max_iters);
+	if (!(p->tol >= 0.0 && isfinite(p->tol)))
+		return dp_fail(err, DP_ERR_ARG, "wlop: tolerance %g is not a finite number >= 0", p->tol);
+	if (!(p->theta_k > 0.0 && isfinite(p->theta_k)))
+		return dp_fail(err, DP_ERR_ARG, "wlop: theta_k = %g is not positive", p->theta_k);
+	if (p->weight != DP_WLOP_L1 && p->weight != DP_WLOP_GAUSSIAN)
+		return dp_fail(err, DP_ERR_ARG, "wlop: unknown weight %d", (int)p->weight);
+	return DP_OK;
+}
+
+static dp_status check_input(const dp_cloud *in, dp_error *err)
+{
+	if (in->n == 0)
+		return dp_fail(err, DP_ERR_EMPTY, "wlop: the input has no points");
+	if (!in->x || !in->y || !in->z)
+		return dp_fail(err, DP_ERR_ARG, "wlop: the input has no position arrays");
+	for (size_t j = 0; j < in->n; j++)
+		if (!isfinite(in->x[j]) || !isfinite(in->y[j]) || !isfinite(in->z[j]))
+			return dp_fail(err, DP_ERR_ARG, "wlop: input point %zu has a non-finite coordinate", j);
+	return DP_OK;
+}
+
+typedef struct pick {
+	float x, y, z;
+	size_t slot; /* index in the output */
+	int dup;     /* repeats the position of another pick: draw again */
+} pick;
+
+static int pick_cmp(const void *pa, const void *pb)
+{
+	const pick *a = pa, *b = pb;
+	if (a->x != b->x)
+		return a->x < b->x ? -1 : 1;
+	if (a->y != b->y)
+		return a->y < b->y ? -1 : 1;
+	if (a->z != b->z)
+		return a->z < b->z ? -1 : 1;
+	return a->slot < b->slot ? -1 : a->slot > b->slot;
+}
+
+/* One more step of a Fisher–Yates shuffle of order[next..n): a fresh index. */
+static size_t draw(size_t *order, size_t *next, size_t n, dp_rng *rng)
+{
+	size_t r = *next + (size_t)(dp_rng_uniform(rng) * (double)(n - *next));
+	size_t j = order[r];
+	order[r] = order[*next];
+	order[(*next)++] = j;
+	return j;
+}
+
+/* m distinct input positions at random: a partial Fisher–Yates shuffle of the
+ * indices, continued to replace picks that repeat another's position. Two
+ * samples at one position would skip each other's repulsion (d² < min_d2)
+ * and move together for ever, and duplicate points are common in merged
+ * scans. */
+static dp_status choose_samples(const dp_cloud *in, size_t m, uint64_t seed, dp_cloud *s, dp_error *err)
+{
+	size_t n = in->n, next = 0;
+	size_t *order = dp_alloc_array(n, sizeof *order);
+	pick *picks = dp_alloc_array(m, sizeof *picks);
+	dp_status st = DP_OK;
+	if (!order || !picks) {
+		st = dp_fail(err, DP_ERR_NOMEM, "wlop: out of memory choosing %zu of %zu points", m, n);
+		goto done;
+	}
+	for (size_t j = 0; j < n; j++)
+		order[j] = j;
+	dp_rng rng;
+	dp_rng_seed(&rng, seed);
+	for (size_t t = 0; t < m; t++) {
+		picks[t].slot = t;
+		picks[t].dup = 1;
+	}
+	for (size_t dups = m; dups;) {
+		for (size_t t = 0; t < m; t++) {
+			if (!picks[t].dup)
+				continue;
+			if (next == n) {
+				st = dp_fail(err, DP_ERR_ARG, "wlop: the input has fewer than %zu distinct positions", m);
+				goto done;
+			}
+			size_t j = draw(order, &next, n, &rng);
+			picks[t].x = in->x[j];
+			picks[t].y = in->y[j];
+			picks[t].z = in->z[j];
+			picks[t].dup = 0;
+		}
+		qsort(picks, m, sizeof *picks, pick_cmp);
+		dups = 0;
+		for (size_t t = 1; t < m; t++)
+			if (picks[t].x == picks[t - 1].x && picks[t].y == picks[t - 1].y && picks[t].z == picks[t - 1].z) {
+				picks[t].dup = 1;
+				dups++;
+			}
+	}
+	for (size_t t = 0; t < m; t++) {
+		s->x[picks[t].slot] = picks[t].x;
+		s->y[picks[t].slot] = picks[t].y;
+		s->z[picks[t].slot] = picks[t].z;
+	}
+done:
+	free(order);
+	free(picks);
+	return st;
+}
+
+/* Buffers of one run, allocated once; per-sample arrays are in the sample
+ * grid's sorted order, inv_v in the input grid's. */
+typedef struct wlop_work {
+	dp_grid input, sample;
+	float *inv_v;
+	float *w, *ax, *ay, *az, *aw, *rx, *ry, *rz, *rw;
+} wlop_work;
+
+static void work_free(wlop_work *wk)
+{
+	dp_grid_free(&wk->input);
+	dp_grid_free(&wk->sample);
+	free(wk->inv_v);
+	float **bufs[] = {&wk->w, &wk->ax, &wk->ay, &wk->az, &wk->aw, &wk->rx, &wk->ry, &wk->rz, &wk->rw};
+	for (size_t b = 0; b < sizeof bufs / sizeof bufs[0]; b++)
+		free(*bufs[b]);
+}
+
+static dp_status work_alloc(wlop_work *wk, size_t n, size_t m, dp_error *err)
+{
+	memset(wk, 0, sizeof *wk);
+	wk->inv_v = dp_alloc_array(n, sizeof(float));
+	int ok = wk->inv_v != NULL;
+	float **bufs[] = {&wk->w, &wk->ax, &wk->ay, &wk->az, &wk->aw, &wk->rx, &wk->ry, &wk->rz, &wk->rw};
+	for (size_t b = 0; b < sizeof bufs / sizeof bufs[0]; b++) {
+		*bufs[b] = dp_alloc_array(m, sizeof(float));
+		ok = ok && *bufs[b];
+	}
+	if (!ok)
+		return dp_fail(err, DP_ERR_NOMEM, "wlop: out of memory for %zu input points and %zu samples", n, m);
+	return DP_OK;
+}
+
+static dp_status support_radius(const dp_wlop_params *p, const dp_cloud *s, double *h, dp_error *err)
+{
+	*h = p->h;
+	if (p->h > 0.0)
+		return DP_OK;
+	double spacing;
+	dp_status st = dp_mean_spacing(s->n, s->x, s->y, s->z, &spacing, err);
+	if (st != DP_OK)
+		return st;
+	*h = p->h_factor * spacing;
+	if (!(*h > 0.0) || !isfinite(*h) || !isfinite((float)*h))
+		return dp_fail(err, DP_ERR_ARG,
+			       "wlop: no support radius from the spacing of %zu samples (%g); give h explicitly",
+			       s->n, spacing);
+	return DP_OK;
+}
+
+/* v_j of every input point, stored as 1/v_j in the input grid's order. */
+static dp_status input_density(dp_context *ctx, wlop_work *wk, const dp_wlop_params *p, float h, dp_error *err)
+{
+	const dp_grid *g = &wk->input;
+	dp_density_args a = {
+		.data = g, .nq = g->n, .qx = g->x, .qy = g->y, .qz = g->z, .h = h,
+		.theta_k = (float)p->theta_k, .min_d2 = (DP_PAIR_EPS * h) * (DP_PAIR_EPS * h), .sqrt_density = 0,
+		.out = wk->inv_v,
+	};
+	dp_status st = dp_op_density(ctx, &a, err);
+	if (st != DP_OK)
+		return st;
+	for (size_t k = 0; k < g->n; k++)
+		wk->inv_v[k] = 1.0f / wk->inv_v[k];
+	return DP_OK;
+}
+
+/* One Jacobi iteration: every operator reads the sample grid's copy of the
+ * positions, the update writes s in the caller's order. The queries are the
+ * grid's sorted positions, so neighbouring work-items scan the same cells
+ * (measured: the attraction of 47K samples over 484K points runs 1.7x faster
+ * than with the samples in their random order). Returns the largest and the
+ * mean move. */
+static dp_status iterate(dp_context *ctx, wlop_work *wk, const dp_wlop_params *p, float h, dp_cloud *s,
+			 dp_wlop_stats *stats, double *max_move, double *mean_move, dp_error *err)
+{
+	double t0 = dp_seconds();
+	dp_status st = dp_grid_build(&wk->sample, s->n, s->x, s->y, s->z, h, err);
+	if (st != DP_OK)
+		return st;
+	const dp_grid *g = &wk->sample;
+	float theta_k = (float)p->theta_k, min_d2 = (DP_PAIR_EPS * h) * (DP_PAIR_EPS * h);
+	double t1 = dp_seconds();
+	dp_density_args da = {
+		.data = g, .nq = g->n, .qx = g->x, .qy = g->y, .qz = g->z, .h = h, .theta_k = theta_k,
+		.min_d2 = min_d2, .sqrt_density = p->sqrt_density, .out = wk->w,
+	};
+	if ((st = dp_op_density(ctx, &da, err)) != DP_OK)
+		return st;
+	double t2 = dp_seconds();
+	/* The Gaussian mean keeps the input point a sample sits on: skipping it,
+	 * a sample near two isolated input points jumps between them for ever. */
+	int gaussian = p->weight == DP_WLOP_GAUSSIAN;
+	dp_attraction_args aa = {
+		.data = &wk->input, .inv_v = wk->inv_v, .nq = g->n, .qx = g->x, .qy = g->y, .qz = g->z, .h = h,
+		.theta_k = theta_k, .min_d2 = gaussian ? 0.0f : min_d2, .gaussian = gaussian,
+		.out_x = wk->ax, .out_y = wk->ay, .out_z = wk->az, .out_w = wk->aw,
+	};
+	if ((st = dp_op_attraction(ctx, &aa, err)) != DP_OK)
+		return st;
+	double t3 = dp_seconds();
+	dp_repulsion_args ra = {
+		.data = g, .w = wk->w, .nq = g->n, .qx = g->x, .qy = g->y, .qz = g->z, .h = h, .theta_k = theta_k,
+		.min_d2 = min_d2, .out_x = wk->rx, .out_y = wk->ry, .out_z = wk->rz, .out_w = wk->rw,
+	};
+	if ((st = dp_op_repulsion(ctx, &ra, err)) != DP_OK)
+		return st;
+	double t4 = dp_seconds();
+
+	/* x ← Σ c α/v / Σ α/v + μ Σ (x - x') w β / Σ w β, with the data term as an
+	 * offset from x; a term without neighbours contributes nothing. */
+	double mu = p->mu, worst2 = 0.0, total = 0.0;
+	for (size_t k = 0; k < g->n; k++) {
+		double mx = 0.0, my = 0.0, mz = 0.0;
+		if (wk->aw[k] > 0.0f) {
+			mx = (double)wk->ax[k] / wk->aw[k];
+			my = (double)wk->ay[k] / wk->aw[k];
+			mz = (double)wk->az[k] / wk->aw[k];
+		}
+		if (wk->rw[k] > 0.0f) {
+			mx += mu * wk->rx[k] / wk->rw[k];
+			my += mu * wk->ry[k] / wk->rw[k];
+			mz += mu * wk->rz[k] / wk->rw[k];
+		}
+		uint32_t i = g->perm[k];
+		s->x[i] = (float)(g->x[k] + mx);
+		s->y[i] = (float)(g->y[k] + my);
+		s->z[i] = (float)(g->z[k] + mz);
+		double move2 = mx * mx + my * my + mz * mz;
+		total += sqrt(move2);
+		if (move2 > worst2)
+			worst2 = move2;
+	}
+	*max_move = sqrt(worst2);
+	*mean_move = g->n ? total / (double)g->n : 0.0;
+	stats->seconds_grid += t1 - t0;
+	stats->seconds_sample_density += t2 - t1;
+	stats->seconds_attraction += t3 - t2;
+	stats->seconds_repulsion += t4 - t3;
+	return DP_OK;
+}
+
+dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *params, dp_cloud *samples,
+		  dp_wlop_stats *stats, dp_error *err)
+{
+	double t_start = dp_seconds();
+	dp_wlop_params defaults;
+	dp_wlop_stats local;
+	if (!params) {
+		dp_wlop_params_default(&defaults);
+		params = &defaults;
+	}
+	if (!stats)
+		stats = &local;
+	memset(stats, 0, sizeof *stats);
+	if (!ctx || !input || !samples)
+		return dp_fail(err, DP_ERR_ARG, "wlop: NULL context, input or output");
+	memset(samples, 0, sizeof *samples);
+	dp_status st = check_params(params, err);
+	if (st == DP_OK)
+		st = check_input(input, err);
+	if (st != DP_OK)
+		return st;
+	size_t m = params->samples ? params->samples : (size_t)llround(params->ratio * (double)input->n);
+	if (m == 0)
+		return dp_fail(err, DP_ERR_ARG, "wlop: no samples requested (ratio %g of %zu points)", params->ratio,
+			       input->n);
+	if (m > input->n)
+		return dp_fail(err, DP_ERR_ARG, "wlop: %zu samples requested from only %zu input points", m,
+			       input->n);
+
+	wlop_work wk;
+	double h = 0.0;
+	if ((st = work_alloc(&wk, input->n, m, err)) != DP_OK || (st = dp_cloud_alloc(samples, m, 0, err)) != DP_OK ||
+	    (st = choose_samples(input, m, params->seed, samples, err)) != DP_OK ||
+	    (st = support_radius(params, samples, &h, err)) != DP_OK ||
+	    (st = dp_grid_build(&wk.input, input->n, input->x, input->y, input->z, (float)h, err)) != DP_OK)
+		goto done;
+	stats->samples = m;
+	stats->h = h;
+	double pairs0 = ctx->pair_evaluations, t_density = dp_seconds();
+	stats->seconds_setup = t_density - t_start;
+	if ((st = input_density(ctx, &wk, params, (float)h, err)) != DP_OK)
+		goto done;
+	double t_iter = dp_seconds();
+	stats->seconds_density = t_iter - t_density;
+	for (int it = 0; it < params->max_iters; it++) {
+		double max_move, mean_move;
+		if ((st = iterate(ctx, &wk, params, (float)h, samples, stats, &max_move, &mean_move, err)) != DP_OK)
+			goto done;
+		stats->iterations = it + 1;
+		stats->last_max_move = max_move / h;
+		stats->last_mean_move = mean_move / h;
+		dp_progress(ctx, "wlop", it + 1, stats->last_max_move);
+		if (stats->last_mean_move < params->tol) {
+			stats->converged = 1;
+			break;
+		}
+	}
+	stats->seconds_iterations = dp_seconds() - t_iter;
+	stats->pair_evaluations = ctx->pair_evaluations - pairs0;
+done:
+	work_free(&wk);
+	if (st != DP_OK)
+		dp_cloud_free(samples);
+	stats->seconds = dp_seconds() - t_start;
+	return st;
+}
