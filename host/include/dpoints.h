@@ -149,8 +149,8 @@ dp_backend_kind dp_context_backend(const dp_context *ctx);
 
 /* Called after every iteration of a long stage with the stage name ("wlop",
  * "sink", "skeleton", "surface"), the iteration (from 1), a stage-specific
- * value (sink: settled points; others: mean move in r, WLOP: largest move in
- * h) and the seconds since the context was created. Runs on the calling
+ * value (sink: settled points; skeleton and surface: mean move in r; WLOP:
+ * mean move in h) and the seconds since the context was created. Runs on the calling
  * thread; NULL turns reports off (the default). */
 typedef void (*dp_progress_fn)(void *user, const char *stage, int iteration, double value, double elapsed);
 void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
