@@ -7,6 +7,7 @@
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
+#include <unistd.h>
 
 void dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
 {
@@ -21,7 +22,7 @@ void dp_cli_progress(void *user, const char *stage, int iteration, double value,
 	if (strcmp(stage, "sink") == 0)
 		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, %.0f settled\n", elapsed, stage, iteration, value);
 	else if (strcmp(stage, "wlop") == 0)
-		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, largest move %.4f h\n", elapsed, stage, iteration, value);
+		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, mean move %.4f h\n", elapsed, stage, iteration, value);
 	else
 		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, mean move %.4f r\n", elapsed, stage, iteration, value);
 }
@@ -78,7 +79,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	memset(&job, 0, sizeof job);
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
-	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, gaussian = 0;
+	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight;
 	job.up_axis = 1;
 	double sigma_p = job.params.sink.sigma_p;
 	dp_params *p = &job.params;
@@ -92,12 +93,12 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--h-factor", CLI_DOUBLE, &p->wlop.h_factor, "default h in mean NN spacings of the initial samples",
 		 NULL, NULL},
 		{"--wlop-iters", CLI_INT, &p->wlop.max_iters, "WLOP iteration cap", NULL, NULL},
-		{"--wlop-tol", CLI_DOUBLE, &p->wlop.tol, "WLOP stops when the largest move is below tol * h", NULL,
-		 NULL},
+		{"--wlop-tol", CLI_DOUBLE, &p->wlop.tol, "WLOP stops when the mean move of an iteration is below tol * h",
+		 NULL, NULL},
 		{"--wlop-mu", CLI_DOUBLE, &p->wlop.mu, "WLOP repulsion weight", NULL, NULL},
 		{"--theta-k", CLI_DOUBLE, &p->wlop.theta_k, "WLOP theta(d) = exp(-k d^2/h^2)", NULL, NULL},
-		{"--gaussian", CLI_FLAG, &gaussian, "WLOP: Gaussian-mean attraction instead of the L1 weight", NULL,
-		 NULL},
+		{"--weight", CLI_CHOICE, &weight, "WLOP attraction: L1 median (Huang 2009) or Gaussian mean (CGAL)",
+		 "l1|gaussian", NULL},
 		{"--sqrt-density", CLI_FLAG, &p->wlop.sqrt_density, "WLOP: sample density sqrt(1 + sum theta)", NULL,
 		 NULL},
 		{"--seed", CLI_U64, &p->wlop.seed, "seed of the initial sample choice", NULL, NULL},
@@ -155,13 +156,18 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->sink.sigma_p = p->surface.sigma_p = sigma_p;
 	p->surface.prior = (dp_surface_prior)prior;
 	p->surface.reattach = !no_reattach;
-	p->wlop.weight = gaussian ? DP_WLOP_GAUSSIAN : DP_WLOP_L1;
+	p->wlop.weight = (dp_wlop_weight)weight;
+	struct stat sb;
+	int outdir_existed = stat(outdir, &sb) == 0;
 	if ((rc = dp_cli_mkdir(cmd, outdir)))
 		return rc;
 
 	dp_context *ctx = NULL;
-	if ((rc = cli_open_context(cmd, backend, device, &ctx)))
+	if ((rc = cli_open_context(cmd, backend, device, &ctx))) {
+		if (!outdir_existed)
+			rmdir(outdir);
 		return rc;
+	}
 	if (!quiet)
 		dp_context_set_progress(ctx, dp_cli_progress, NULL);
 	job.backend_name = backend ? "ref" : "cl";
@@ -196,5 +202,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 	dp_context_free(ctx);
 	if (failed && ninputs > 1)
 		fprintf(stderr, "dpoints %s: %zu of %zu inputs failed\n", cmd, failed, ninputs);
+	/* a run that produced nothing leaves nothing: rmdir only removes it empty */
+	if (failed == ninputs && !outdir_existed)
+		rmdir(outdir);
 	return first_failure;
 }

@@ -70,8 +70,9 @@ int dp_cmd_scan(int argc, char **argv)
 		goto fail;
 	if (dp_cloud_write_ply(output, &points, ascii, &err) != DP_OK)
 		goto fail;
-	printf("scan: %s (%zu triangles), %d views of %dx%d rays, noise %g diagonals -> %zu points in %s\n",
-	       shape_name ? shape_name : pos[0], mesh.nfaces, sp.views, sp.res, sp.res, sp.noise, points.n, output);
+	printf("scan: %s (%zu triangles), %d view%s of %dx%d rays, noise %g diagonals -> %zu points in %s\n",
+	       shape_name ? shape_name : pos[0], mesh.nfaces, sp.views, sp.views == 1 ? "" : "s", sp.res, sp.res,
+	       sp.noise, points.n, output);
 	dp_cloud_free(&mesh);
 	dp_cloud_free(&points);
 	return DP_EXIT_OK;

@@ -64,6 +64,8 @@ static void fill_report(json_writer *w, const void *arg)
 	json_int(w, "points_out", (long long)run->wp.samples);
 	json_num(w, "h", run->ws.h);
 	json_int(w, "iterations", run->ws.iterations);
+	json_bool(w, "converged", run->ws.converged);
+	json_num(w, "last_mean_move_h", run->ws.last_mean_move);
 	json_num(w, "last_max_move_h", run->ws.last_max_move);
 	json_num(w, "pair_evaluations", run->ws.pair_evaluations);
 	json_object(w, "seconds");
@@ -86,7 +88,7 @@ int dp_cmd_wlop(int argc, char **argv)
 	dp_wlop_params_default(&run.wp);
 	dp_normal_params_default(&run.np);
 	const char *device = NULL, *report = NULL;
-	int ascii = 0, gaussian = 0;
+	int ascii = 0, weight = (int)run.wp.weight;
 	cli_opt opts[] = {
 		{"--output", CLI_STRING, &run.output, "output PLY (x y z nx ny nz)", NULL, NULL},
 		{"--samples", CLI_SIZE, &run.wp.samples, "number of output points m", NULL, NULL},
@@ -97,12 +99,13 @@ int dp_cmd_wlop(int argc, char **argv)
 		{"--h-factor", CLI_DOUBLE, &run.wp.h_factor, "default h in mean NN spacings of the initial samples",
 		 NULL, NULL},
 		{"--iters", CLI_INT, &run.wp.max_iters, "iteration cap", NULL, NULL},
-		{"--tol", CLI_DOUBLE, &run.wp.tol, "stop when the largest move is below tol * h", NULL, NULL},
+		{"--tol", CLI_DOUBLE, &run.wp.tol, "stop when the mean move of an iteration is below tol * h", NULL,
+		 NULL},
 		{"--mu", CLI_DOUBLE, &run.wp.mu, "repulsion weight", NULL, NULL},
 		{"--theta-k", CLI_DOUBLE, &run.wp.theta_k, "theta(d) = exp(-k d^2/h^2); 16 (Huang 2009) or 4", NULL,
 		 NULL},
-		{"--gaussian", CLI_FLAG, &gaussian, "Gaussian-mean attraction instead of the L1 weight (CGAL)", NULL,
-		 NULL},
+		{"--weight", CLI_CHOICE, &weight, "attraction: L1 median (Huang 2009) or Gaussian mean (CGAL)",
+		 "l1|gaussian", NULL},
 		{"--sqrt-density", CLI_FLAG, &run.wp.sqrt_density, "sample density sqrt(1 + sum theta)", NULL, NULL},
 		{"--seed", CLI_U64, &run.wp.seed, "seed of the initial sample choice", NULL, NULL},
 		{"--normal-k", CLI_INT, &run.np.k, "PCA neighbours per normal", NULL, NULL},
@@ -124,7 +127,7 @@ int dp_cmd_wlop(int argc, char **argv)
 		fprintf(stderr, "dpoints %s: needs INPUT and -o OUT.ply (see dpoints %s --help)\n", cmd, cmd);
 		return DP_EXIT_INPUT;
 	}
-	run.wp.weight = gaussian ? DP_WLOP_GAUSSIAN : DP_WLOP_L1;
+	run.wp.weight = (dp_wlop_weight)weight;
 	run.input = pos[0];
 	if ((rc = cli_check_output(cmd, run.output)) || (report && (rc = cli_check_output(cmd, report))))
 		return rc;
@@ -143,12 +146,14 @@ int dp_cmd_wlop(int argc, char **argv)
 		goto done;
 	run.device_name = dp_context_device_name(ctx);
 	if (dp_wlop(ctx, &in, &run.wp, &out, &run.ws, &err) != DP_OK) {
+		dp_cli_name_input(&err, run.input);
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}
 	run.wp.samples = out.n;
 	t0 = dp_seconds();
 	if (dp_estimate_normals(&out, &run.np, &err) != DP_OK) {
+		dp_cli_name_input(&err, run.input);
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}

@@ -80,6 +80,8 @@ static void fill_report(json_writer *w, const void *varg)
 	json_object(w, "wlop");
 	json_num(w, "h", r->wlop_stats.h);
 	json_int(w, "iterations", r->wlop_stats.iterations);
+	json_bool(w, "converged", r->wlop_stats.converged);
+	json_num(w, "last_mean_move_h", r->wlop_stats.last_mean_move);
 	json_num(w, "last_max_move_h", r->wlop_stats.last_max_move);
 	json_num(w, "seconds", r->wlop_stats.seconds_density + r->wlop_stats.seconds_iterations);
 	json_num(w, "pair_evaluations", r->wlop_stats.pair_evaluations);
@@ -181,10 +183,13 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 	dp_error err = {0};
 	int rc;
 	summary->points_in = in->n;
+	if (dp_consolidate(ctx, in, &job->params, res, &err) != DP_OK) {
+		dp_cli_name_input(&err, label);
+		goto fail;
+	}
+	/* only now, so that an input the pipeline rejects leaves no folder behind */
 	if ((rc = dp_cli_mkdir(cmd, dir)))
 		goto fail_rc;
-	if (dp_consolidate(ctx, in, &job->params, res, &err) != DP_OK)
-		goto fail;
 	if (write_outputs(job, in, res, dir, &err) != DP_OK)
 		goto fail;
 	char report[4096];
@@ -236,23 +241,30 @@ int dp_cli_consolidate_one(const char *cmd, dp_context *ctx, const dp_consolidat
 
 void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_consolidate_summary *rows, size_t n)
 {
-	fprintf(out, "\n%-40s %8s %8s %10s %18s %8s  %s\n", "input", "points", "dpoints", "r",
-		"iters w/s/k/s", "seconds", "status");
+	/* whole paths, however long: a cut path may not say which file failed */
+	int width = (int)strlen("input");
+	for (size_t i = 0; i < n; i++)
+		if ((int)strlen(inputs[i]) > width)
+			width = (int)strlen(inputs[i]);
+	size_t ok = 0;
+	double seconds = 0.0;
+	fprintf(out, "\n%-*s %8s %8s %10s %18s %8s  %s\n", width, "input", "points", "dpoints", "r", "iters w/s/k/s",
+		"seconds", "status");
 	for (size_t i = 0; i < n; i++) {
 		const dp_consolidate_summary *s = &rows[i];
-		const char *name = inputs[i];
-		size_t len = strlen(name);
-		if (len > 40)
-			name += len - 40;
 		if (s->ok) {
-			char iters[32];
+			char iters[64];
 			snprintf(iters, sizeof iters, "%d/%d/%d/%d", s->iterations[0], s->iterations[1],
 				 s->iterations[2], s->iterations[3]);
-			fprintf(out, "%-40s %8zu %8zu %10.4g %18s %8.2f  ok\n", name, s->points_in, s->points_out, s->r,
-				iters, s->seconds);
+			fprintf(out, "%-*s %8zu %8zu %10.4g %18s %8.2f  ok\n", width, inputs[i], s->points_in,
+				s->points_out, s->r, iters, s->seconds);
+			ok++;
+			seconds += s->seconds;
 		} else {
-			fprintf(out, "%-40s %8s %8s %10s %18s %8s  FAILED: %s\n", name, "-", "-", "-", "-", "-",
+			fprintf(out, "%-*s %8s %8s %10s %18s %8s  FAILED: %s\n", width, inputs[i], "-", "-", "-", "-", "-",
 				s->error);
 		}
 	}
+	fprintf(out, "%zu input%s: %zu ok, %zu failed; %.2f s in the pipeline\n", n, n == 1 ? "" : "s", ok, n - ok,
+		seconds);
 }

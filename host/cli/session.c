@@ -16,6 +16,19 @@ int cli_open_context(const char *cmd, int backend, const char *device, dp_contex
 	return 0;
 }
 
+void dp_cli_name_input(dp_error *err, const char *input)
+{
+	size_t plen = strlen(input) + 2, mlen = strlen(err->message);
+	if (plen >= sizeof err->message)
+		return;
+	if (plen + mlen >= sizeof err->message)
+		mlen = sizeof err->message - 1 - plen;
+	memmove(err->message + plen, err->message, mlen);
+	memcpy(err->message, input, plen - 2);
+	memcpy(err->message + plen - 2, ": ", 2);
+	err->message[plen + mlen] = '\0';
+}
+
 int cli_check_output(const char *cmd, const char *path)
 {
 	char copy[4096];

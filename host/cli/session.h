@@ -13,6 +13,9 @@
 /* backend: 0 = cl, 1 = ref (the order of CLI_BACKEND_OPTS's choices). Returns
  * 0 or an exit code after printing the error. */
 int cli_open_context(const char *cmd, int backend, const char *device, dp_context **ctx);
+/* Prefixes err's message with the input's name: errors from the library name
+ * the stage ("wlop: ..."), and in a batch the line must say which input. */
+void dp_cli_name_input(dp_error *err, const char *input);
 /* Fails early (exit code) when the folder of `path` is not writable, so a long
  * run does not end in an unwritable output. */
 int cli_check_output(const char *cmd, const char *path);

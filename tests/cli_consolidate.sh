@@ -1,0 +1,87 @@
+#!/usr/bin/env bash
+# `dpoints consolidate` on one small input as a user runs it: the output
+# files, their contents, progress on stderr (and none with --quiet), and the
+# extra files of --save-stages and --render.
+source "$(dirname "$0")/support/cli_check.sh"
+
+# A torus (tubes: a real skeleton) scanned from 4 sides with a little noise.
+expect_ok scan scan --shape torus --views 4 --res 48 --noise 0.003 -o "$tmp/torus.ply" || finish
+m=300
+
+if expect_ok plain consolidate "$tmp/torus.ply" -o "$tmp/plain" --samples $m; then
+	for f in surface.ply skeleton.ply dpoints.ply report.json; do
+		[ -s "$tmp/plain/$f" ] || fail "consolidate: $f missing"
+	done
+	for f in wlop.ply anchors.ply input.png; do
+		[ ! -e "$tmp/plain/$f" ] || fail "consolidate: $f written without --save-stages / --render"
+	done
+	if grep -qE '^consolidate: .*torus.ply: [0-9]+ points -> '$m' deep points' "$tmp/plain.out"; then
+		ok "summary: $(cat "$tmp/plain.out")"
+	else
+		fail "consolidate: no summary line on stdout: $(cat "$tmp/plain.out")"
+	fi
+	# progress: stage, iteration and elapsed time, for every stage that iterates
+	for stage in wlop sink surface; do
+		grep -qE "^ *\[ *[0-9.]+ s\] $stage +iteration +[0-9]+" "$tmp/plain.err" ||
+			fail "no progress line for stage $stage on stderr: $(cat "$tmp/plain.err")"
+	done
+	if msg=$(py "$PLY_PY"'
+import json, math
+d, m = sys.argv[1], int(sys.argv[2])
+names, surface, _ = read_ply(d + "/surface.ply")
+if names != ["x", "y", "z", "nx", "ny", "nz", "length", "eta"] or len(surface) != m:
+    sys.exit("surface.ply: %s, %d points" % (names, len(surface)))
+names, skeleton, _ = read_ply(d + "/skeleton.ply")
+if names != ["x", "y", "z"] or len(skeleton) != m:
+    sys.exit("skeleton.ply: %s, %d points" % (names, len(skeleton)))
+names, ends, elements = read_ply(d + "/dpoints.ply")
+if len(ends) != 2 * m or elements.get("edge") != m:
+    sys.exit("dpoints.ply: %d vertices, %s edges; expected %d and %d" % (len(ends), elements.get("edge"), 2 * m, m))
+# the vertices are the surface points, then the skeleton points, in order
+if ends[:m] != [s[:3] for s in surface] or ends[m:] != [q[:3] for q in skeleton]:
+    sys.exit("dpoints.ply vertices are not the surface then the skeleton points")
+# the length property is the deep point length |p - q|
+worst = max(abs(math.dist(s[:3], q) - s[6]) for s, q in zip(surface, skeleton))
+if worst > 1e-4:
+    sys.exit("surface.ply length differs from |p - q| by up to %g" % worst)
+r = json.load(open(d + "/report.json"))
+for block in ("wlop", "normals", "sink", "skeleton", "surface"):
+    if not r["parameters"].get(block):
+        sys.exit("report.json: no parameters.%s" % block)
+res = r["results"]
+if res["deep_points"] != m or not res["r"] > 0:
+    sys.exit("report.json: %s deep points, r = %s" % (res["deep_points"], res["r"]))
+for stage in ("wlop", "sink", "skeleton", "surface"):
+    if not res[stage]["iterations"] > 0:
+        sys.exit("report.json: %s ran %s iterations" % (stage, res[stage]["iterations"]))
+print("%d deep points, %d edges, r = %.4g, report parses" % (m, m, res["r"]))
+' "$tmp/plain" $m 2>&1); then ok "outputs: $msg"; else fail "outputs: $msg"; fi
+fi
+
+# The same run with every extra output, quietly.
+if expect_ok extra consolidate "$tmp/torus.ply" -o "$tmp/extra" --samples $m --save-stages --render --quiet; then
+	if [ -s "$tmp/extra.err" ]; then
+		fail "--quiet: stderr is not empty: $(head -n 3 "$tmp/extra.err")"
+	else
+		ok "--quiet: nothing on stderr"
+	fi
+	# extra outputs do not change the result (same seed, same input)
+	cmp -s "$tmp/plain/surface.ply" "$tmp/extra/surface.ply" ||
+		fail "--save-stages --render changed surface.ply"
+	if msg=$(py "$PLY_PY"'
+m = int(sys.argv[2])
+for name in ("wlop.ply", "anchors.ply"):
+    names, rows, _ = read_ply(sys.argv[1] + "/" + name)
+    if names != ["x", "y", "z", "nx", "ny", "nz"] or len(rows) != m:
+        sys.exit("%s: %s, %d points" % (name, names, len(rows)))
+print("wlop.ply and anchors.ply: %d points with normals" % m)
+' "$tmp/extra" $m 2>&1); then ok "--save-stages: $msg"; else fail "--save-stages: $msg"; fi
+	pngs=0
+	for f in input skeleton surface; do
+		png_check "$tmp/extra/$f.png" && pngs=$((pngs + 1))
+	done
+	png_check "$tmp/extra/dpoints.png" 0 0 drawn && pngs=$((pngs + 1))
+	[ "$pngs" -eq 4 ] && ok "--render: input, skeleton, surface and dpoints PNGs are valid"
+fi
+
+finish
