@@ -1,0 +1,252 @@
+/* The real Stanford bunny scans through the library API: views brought into
+ * the ground-truth frame with bun.conf, consolidated (one view, two views)
+ * and evaluated against bun_zipper_res2.ply before and after. Prints the
+ * numbers; skips when the shared data folder is absent. */
+#include "testkit.h"
+
+#include <stdio.h>
+#include <string.h>
+
+/* A raw view lands on the mesh when its mean distance to it is below this
+ * (units of the mesh's bbox diagonal). Measured with the right pose: 6.1e-4
+ * to 6.4e-4 for bun000/090/180 (scanner noise plus the decimation of
+ * res2); a wrong rotation puts bun090 at 0.09. */
+#define LANDED_ACCURACY 1e-3
+
+/* Deep points for the consolidations: the paper's default is 10% of the
+ * input (4000-8000 here); 1000 keeps each run to a few seconds on 2 CPU
+ * cores. */
+#define BUNNY_SAMPLES 1000
+
+/* Coverage must be "well above" the input's. The rule: consolidation at
+ * least halves the uncovered fraction, 1 - after <= (1 - before) / 2.
+ * Measured with BUNNY_SAMPLES = 1000: one view 0.378 -> 0.943 (the rule asks
+ * 0.689: more than any one-sided view of a closed object can cover, about
+ * half), two views 0.745 -> 0.985 (the rule asks 0.873). With 2000 samples
+ * the one view reaches 0.779. */
+#define UNCOVERED_KEPT_AT_MOST 0.5
+
+typedef struct pose {
+	double t[3], q[4]; /* translation, quaternion x y z w */
+} pose;
+
+/* The `bmesh NAME tx ty tz qx qy qz qw` line of bun.conf for `name`. */
+static void read_pose(const char *conf, const char *name, pose *p)
+{
+	FILE *f = fopen(conf, "r");
+	char line[512], file[256];
+	int found = 0;
+	assert_non_null(f);
+	while (!found && fgets(line, sizeof line, f))
+		found = sscanf(line, "bmesh %255s %lf %lf %lf %lf %lf %lf %lf", file, &p->t[0], &p->t[1], &p->t[2],
+			       &p->q[0], &p->q[1], &p->q[2], &p->q[3]) == 8 &&
+			strcmp(file, name) == 0;
+	fclose(f);
+	if (!found)
+		fail_msg("%s: no bmesh line for %s", conf, name);
+}
+
+/* world = M p + t with M = R(q)ᵀ (transposed) or R(q), R(q) the rotation of
+ * the unit quaternion q = (x, y, z, w). bun.conf's convention is R(q)ᵀ:
+ * test_pose_convention shows it numerically. */
+static void apply_pose(dp_cloud *c, const pose *p, int transposed)
+{
+	double x = p->q[0], y = p->q[1], z = p->q[2], w = p->q[3];
+	double r[3][3] = {
+		{1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)},
+		{2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)},
+		{2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)},
+	};
+	for (size_t i = 0; i < c->n; i++) {
+		double v[3] = {c->x[i], c->y[i], c->z[i]}, o[3];
+		for (int a = 0; a < 3; a++) {
+			o[a] = p->t[a];
+			for (int b = 0; b < 3; b++)
+				o[a] += (transposed ? r[b][a] : r[a][b]) * v[b];
+		}
+		c->x[i] = (float)o[0];
+		c->y[i] = (float)o[1];
+		c->z[i] = (float)o[2];
+	}
+}
+
+/* Paths in the shared data folder, or NULL (the test skips). */
+typedef struct bunny_data {
+	char conf[8192], mesh[8192];
+} bunny_data;
+
+static int find_data(bunny_data *d)
+{
+	const char *p = tk_data_path("stanford-bunny/bun.conf");
+	if (!p)
+		return 0;
+	snprintf(d->conf, sizeof d->conf, "%s", p);
+	if (!(p = tk_data_path("stanford-bunny/bun_zipper_res2.ply")))
+		return 0;
+	snprintf(d->mesh, sizeof d->mesh, "%s", p);
+	return 1;
+}
+
+/* Reads view `name` into `view`, in the ground-truth frame (R(q)ᵀ when
+ * `transposed`, else R(q)); 0 when the file is absent. */
+static int read_view(const bunny_data *d, const char *name, int transposed, dp_cloud *view)
+{
+	char rel[256];
+	snprintf(rel, sizeof rel, "stanford-bunny/%s", name);
+	const char *path = tk_data_path(rel);
+	if (!path)
+		return 0;
+	dp_error err = {0};
+	if (dp_cloud_read(path, view, DP_READ_POINTS, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	pose p;
+	read_pose(d->conf, name, &p);
+	apply_pose(view, &p, transposed);
+	return 1;
+}
+
+static void read_mesh(const bunny_data *d, dp_cloud *mesh)
+{
+	dp_error err = {0};
+	if (dp_cloud_read(d->mesh, mesh, DP_READ_MESH, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	assert_true(mesh->nfaces > 0);
+}
+
+static void eval(const dp_cloud *mesh, const dp_cloud *points, double coverage_factor, dp_eval_result *r)
+{
+	dp_eval_params ep;
+	dp_eval_params_default(&ep);
+	if (coverage_factor > 0)
+		ep.coverage_factor = coverage_factor;
+	dp_error err = {0};
+	if (dp_eval(mesh, points, &ep, r, &err) != DP_OK)
+		fail_msg("%s", err.message);
+}
+
+static void print_row(const char *what, const dp_eval_result *r, double coverage_same_radius)
+{
+	char normals[64] = "none";
+	if (r->has_normals)
+		snprintf(normals, sizeof normals, "%.1f deg, %.1f%% flipped", r->normal_angle_deg,
+			 100.0 * r->normal_flipped);
+	printf("  %-22s %6zu points  accuracy %.5f (p95 %.5f)  coverage %.3f (radius %.4f; %.3f at the "
+	       "output's radius)  completeness %.4f  normals %s\n",
+	       what, r->points, r->accuracy_mean, r->accuracy_p95, r->coverage, r->coverage_radius,
+	       coverage_same_radius, r->completeness_mean, normals);
+}
+
+/* Glues b's points after a's into `out`. */
+static void concat(const dp_cloud *a, const dp_cloud *b, dp_cloud *out)
+{
+	dp_error err = {0};
+	if (dp_cloud_alloc(out, a->n + b->n, 0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	memcpy(out->x, a->x, a->n * sizeof(float));
+	memcpy(out->y, a->y, a->n * sizeof(float));
+	memcpy(out->z, a->z, a->n * sizeof(float));
+	memcpy(out->x + a->n, b->x, b->n * sizeof(float));
+	memcpy(out->y + a->n, b->y, b->n * sizeof(float));
+	memcpy(out->z + a->n, b->z, b->n * sizeof(float));
+}
+
+/* bun.conf's pose is world = R(q)ᵀ p + t: with it the 90° view lands on the
+ * ground-truth mesh; with R(q) it does not. (bun000 has the identity and
+ * bun180 a half turn, for which R and Rᵀ nearly agree: they cannot tell.) */
+static void test_pose_convention(void **state)
+{
+	(void)state;
+	bunny_data d;
+	dp_cloud mesh = {0}, right = {0}, wrong = {0};
+	if (!find_data(&d) || !read_view(&d, "bun090.ply", 1, &right) || !read_view(&d, "bun090.ply", 0, &wrong))
+		skip();
+	read_mesh(&d, &mesh);
+	dp_eval_result rt, r;
+	eval(&mesh, &right, 0, &rt);
+	eval(&mesh, &wrong, 0, &r);
+	printf("bun090 mean distance to the mesh: %.5f diagonals with R(q)^T, %.5f with R(q)\n", rt.accuracy_mean,
+	       r.accuracy_mean);
+	assert_true(rt.accuracy_mean < LANDED_ACCURACY);
+	assert_true(r.accuracy_mean > 10 * LANDED_ACCURACY);
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&right);
+	dp_cloud_free(&wrong);
+}
+
+/* Consolidates `in` and checks and prints the numbers before and after. */
+static void consolidate_and_compare(const char *label, const dp_cloud *mesh, const dp_cloud *in)
+{
+	dp_eval_result before, wlop, after, before_same, wlop_same;
+	eval(mesh, in, 0, &before);
+	/* the views must sit on the mesh, or nothing below means anything */
+	assert_true(before.accuracy_mean < LANDED_ACCURACY);
+
+	dp_params params;
+	dp_params_default(&params);
+	params.wlop.samples = BUNNY_SAMPLES;
+	dp_result res = {0};
+	dp_error err = {0};
+	if (dp_consolidate(tk_cl_context(), in, &params, &res, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	assert_int_equal(res.surface.n, BUNNY_SAMPLES);
+	eval(mesh, &res.wlop, 0, &wlop);
+	eval(mesh, &res.surface, 0, &after);
+	/* Coverage is relative to each set's own spacing, and the consolidated
+	 * points are 15-20 times sparser than the raw scan: also measure the
+	 * input at the output's absolute radius, to show how much of the gain
+	 * is completion rather than a wider radius. */
+	eval(mesh, in, after.coverage_radius / before.spacing_mean, &before_same);
+	eval(mesh, &res.wlop, after.coverage_radius / wlop.spacing_mean, &wlop_same);
+
+	printf("%s (lengths in diagonals of the mesh's bbox, %.4f; %.1f s on %s)\n", label, before.diagonal,
+	       res.seconds_total, dp_context_device_name(tk_cl_context()));
+	print_row("input", &before, before_same.coverage);
+	print_row("WLOP samples", &wlop, wlop_same.coverage);
+	print_row("consolidated surface", &after, after.coverage);
+
+	assert_true(1.0 - after.coverage <= UNCOVERED_KEPT_AT_MOST * (1.0 - before.coverage));
+	/* at the same absolute radius the output must not cover less either
+	 * (measured 0.629 -> 0.943 for one view, 0.948 -> 0.983 for two: with
+	 * both sides scanned, little is more than that radius from the input) */
+	assert_true(after.coverage >= before_same.coverage);
+	dp_result_free(&res);
+}
+
+static void test_one_view(void **state)
+{
+	(void)state;
+	bunny_data d;
+	dp_cloud mesh = {0}, view = {0};
+	if (!find_data(&d) || !read_view(&d, "bun000.ply", 1, &view))
+		skip();
+	read_mesh(&d, &mesh);
+	consolidate_and_compare("bun000 (one view)", &mesh, &view);
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&view);
+}
+
+static void test_two_views(void **state)
+{
+	(void)state;
+	bunny_data d;
+	dp_cloud mesh = {0}, front = {0}, back = {0}, both = {0};
+	if (!find_data(&d) || !read_view(&d, "bun000.ply", 1, &front) || !read_view(&d, "bun180.ply", 1, &back))
+		skip();
+	read_mesh(&d, &mesh);
+	concat(&front, &back, &both);
+	consolidate_and_compare("bun000 + bun180 (two views)", &mesh, &both);
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&front);
+	dp_cloud_free(&back);
+	dp_cloud_free(&both);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_pose_convention),
+		cmocka_unit_test(test_one_view),
+		cmocka_unit_test(test_two_views),
+	};
+	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
+}
