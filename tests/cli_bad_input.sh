@@ -39,7 +39,7 @@ one_error_line eval_no_faces 2 "$tmp/good.ply" "no faces"
 run scan_no_faces scan "$tmp/good.ply" -o "$out/s.ply"
 one_error_line scan_no_faces 2 "$tmp/good.ply" "no faces"
 # an input the pipeline cannot work with: one point repeated
-for k in 1 2 3 4 5 6 7 8 9 10 11 12; do echo "1 2 3"; done >"$bad/same.xyz"
+for _ in 1 2 3 4 5 6 7 8 9 10 11 12; do echo "1 2 3"; done >"$bad/same.xyz"
 run wlop_same wlop "$bad/same.xyz" -o "$out/w.ply"
 one_error_line wlop_same 2 "$bad/same.xyz" "wlop"
 run consolidate_same consolidate "$bad/same.xyz" -o "$out/c"

@@ -26,7 +26,8 @@ if ! grep -q dp_consolidate "$tmp/example.c"; then
 	fail "no library example (a \`\`\`c block calling dp_consolidate) in $source_dir/README.md"
 	finish
 fi
-export PKG_CONFIG_PATH=$(dirname "$pc")
+PKG_CONFIG_PATH=$(dirname "$pc")
+export PKG_CONFIG_PATH
 if ! flags=$(pkg-config --cflags --libs --static dpoints 2>&1); then
 	fail "pkg-config --static dpoints: $flags"
 	finish

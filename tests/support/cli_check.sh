@@ -1,3 +1,4 @@
+# shellcheck shell=bash
 # Sourced by tests/cli_*.sh: the dpoints binary from $1, a scratch folder
 # removed on exit, failure counting, and checks of the files the CLI writes.
 # Checks report every failure and the script exits 1 at `finish`, so one run
