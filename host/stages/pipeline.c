@@ -29,10 +29,12 @@ void dp_result_free(dp_result *r)
 	memset(r, 0, sizeof *r);
 }
 
-/* Prefixes err's message with the stage that failed. */
+/* Prefixes err's message with the stage that failed, unless the stage
+ * already named itself. */
 static dp_status in_stage(dp_error *err, dp_status st, const char *stage)
 {
-	if (err && st != DP_OK) {
+	size_t len = strlen(stage);
+	if (err && st != DP_OK && strncmp(err->message, stage, len) != 0) {
 		char msg[DP_ERROR_MESSAGE_MAX];
 		snprintf(msg, sizeof msg, "%s", err->message);
 		dp_fail(err, st, "%s: %s", stage, msg);
@@ -73,12 +75,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 
 	st = dp_sink(ctx, &res->wlop, res->r, &params->sink, &res->anchors, &res->sink_stats, err);
 	if (st != DP_OK) {
-		in_stage(err, st, "sinking");
+		in_stage(err, st, "sink");
 		goto fail;
 	}
 	st = dp_skeleton(ctx, &res->anchors, res->r, &params->skeleton, &res->skeleton, &res->skeleton_stats, err);
 	if (st != DP_OK) {
-		in_stage(err, st, "meso-skeleton");
+		in_stage(err, st, "skeleton");
 		goto fail;
 	}
 	size_t n = res->wlop.n;
@@ -91,7 +93,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, res->r, &params->surface, &res->surface, res->eta,
 			&res->surface_stats, err);
 	if (st != DP_OK) {
-		in_stage(err, st, "surface consolidation");
+		in_stage(err, st, "surface");
 		goto fail;
 	}
 	for (size_t i = 0; i < n; i++) {
