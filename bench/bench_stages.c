@@ -1,0 +1,680 @@
+/* Per-stage benchmark of the whole pipeline (DESIGN 6, issue 3 part 5): WLOP,
+ * normals, sinking, meso-skeleton and surface consolidation, each run on the
+ * OpenCL backend and on the scalar reference over the SAME input in one run,
+ * printed as JSON lines. Inputs are noisy virtual scans of built-in shapes at
+ * the paper's Table 1 sizes (|C| -> |S|, |S| from 2K to 67K) and the statue
+ * scan of the paper's Fig. 12 (bottom) when the shared data folder has it.
+ *
+ *   bench_stages [--sizes C:S[:shape],...|none] [--stages wlop,normals,sink,skeleton,surface,total]
+ *                [--ref-max N] [--ref-uncapped] [--quick] [--no-statue] [--no-warm-up]
+ *                [--device D] [--data DIR]
+ *
+ * Every stage's reference run starts from the OpenCL run's input of that stage
+ * (WLOP from C; sinking from the OpenCL WLOP samples with their normals; the
+ * skeleton from the OpenCL anchors; the surface from the OpenCL skeleton), so
+ * the two lines of a stage time the same work on the same data, and
+ * "mean_diff_r" (mean distance between the two outputs, in r) shows they
+ * computed the same thing. The OpenCL run uses the default parameters and
+ * convergence tests; the reference then runs exactly the OpenCL run's
+ * iteration count, with its convergence test off ("iters_capped_to_cl": true,
+ * "iteration_cap"): rounding differences can make the two stop tests fire
+ * iterations apart, and equal work makes the seconds comparable. With
+ * --ref-uncapped the reference runs to its own convergence instead. Sinking
+ * stops early anyway once every point has settled. Normals and r (paper Eq. 1) run on the host with either
+ * backend (FLANN kNN): their lines time the same code twice.
+ * "seconds" is the wall time of the public call, measured here around it.
+ * The reference is skipped (a line with "skipped") above --ref-max samples.
+ */
+#include "dpoints.h"
+#include "core/common.h"
+#include "knn/knn.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Table 1 rows covering |S| = 2K ... 67K, with the smallest and largest |S|
+ * (Fig. 1 and Fig. 13 B). Each gets a different built-in shape: the paper's
+ * inputs differ in shape too, and the knot (tubes) and the chair (flat parts,
+ * thin legs) exercise curve and sheet skeletons. */
+#define DEFAULT_SIZES "84772:2143:chair,22148:5234:knot,24292:13812:torus,40509:40509:chair,67131:67131:knot"
+/* --quick: one small input, no statue: a smoke run of seconds. */
+#define QUICK_SIZES "22148:2143:knot"
+/* No limit: on the 2-core PoCL machine the reference took only 1-3x the
+ * kernels' time per input (the whole default run, both backends, about 8
+ * minutes), and the largest inputs are where the two differ most. On a fast
+ * device, --ref-max keeps the reference to the small inputs. */
+#define DEFAULT_REF_MAX 0
+#define STATUE_FILE "paper/statue-fig12b-raw.xyz"
+#define STATUE_NAME "statue-fig12b"
+#define STATUE_SAMPLES 7252
+#define MAX_SIZES 16
+/* Scanner: a ring of views around the vertical axis, as in the paper's real
+ * scans, so the underside is missed (missing data for sinking and surface
+ * completion to work on); Gaussian noise of 0.2% of the bounding-box
+ * diagonal per coordinate. */
+#define SCAN_VIEWS 4
+#define SCAN_NOISE 0.002
+#define SCAN_SEED 11
+/* The ray grid is sized from a probe scan: enough rays for this many times
+ * |C| hits, then |C| of them are kept at random. */
+#define PROBE_RES 64
+#define RES_MARGIN 1.15
+#define RES_GROWTH 1.2
+#define RES_TRIES 4
+#define SUBSET_SEED 5
+/* PoCL compiles each kernel for the device at its first launch (seconds per
+ * kernel unless its cache already holds it); a small unprinted OpenCL run of
+ * the whole chain first keeps that out of the first input's times. */
+#define WARM_UP_SIZE 3000
+#define WARM_UP_SAMPLES 500
+#define WARM_UP_SHAPE "knot"
+
+typedef enum stage_id { ST_WLOP, ST_NORMALS, ST_SINK, ST_SKELETON, ST_SURFACE, ST_COUNT } stage_id;
+static const char *stage_names[ST_COUNT] = {"wlop", "normals", "sink", "skeleton", "surface"};
+
+/* The paper's Table 1: |C|, |S|, T_w (WLOP) and T_d (deep points) in seconds
+ * on a 6-core i7-5930K, to print beside our times for the same sizes. */
+typedef struct paper_row {
+	size_t c, s;
+	double tw, td;
+} paper_row;
+
+static const paper_row paper_table[] = {
+	{84772, 2143, 3.1, 26.3},     {58710, 6870, 4.8, 41.2},      {22148, 5234, 2.7, 30.5},
+	{43545, 3996, 4.1, 83.9},     {78630, 6727, 8.4, 87.3},      {24292, 13812, 3.2, 112.9},
+	{32614, 7252, 5.5, 61.5},     {40509, 40509, 10.5, 259.6},   {67131, 67131, 18.9, 408.8},
+	{175312, 19721, 17.8, 197.3}, {300283, 57791, 47.3, 449.9}, {292910, 32142, 30.3, 355.3},
+	{483583, 47083, 134.9, 723.7},
+};
+
+static const paper_row *paper_lookup(size_t c, size_t s)
+{
+	for (size_t i = 0; i < sizeof paper_table / sizeof paper_table[0]; i++)
+		if (paper_table[i].c == c && paper_table[i].s == s)
+			return &paper_table[i];
+	return NULL;
+}
+
+typedef struct options {
+	size_t sizes[MAX_SIZES], samples[MAX_SIZES];
+	char shapes[MAX_SIZES][16];
+	int nsizes;
+	int stages[ST_COUNT];
+	int total;
+	size_t ref_max; /* 0 = no limit */
+	int ref_uncapped;
+	int statue;
+	int warm_up;
+	const char *device;
+	const char *data;
+} options;
+
+/* "none": the statue only. */
+static int parse_sizes(const char *text, options *o)
+{
+	o->nsizes = 0;
+	if (!strcmp(text, "none"))
+		return 0;
+	while (*text) {
+		char *end;
+		unsigned long long n = strtoull(text, &end, 10);
+		if (*end != ':' || o->nsizes == MAX_SIZES)
+			return -1;
+		unsigned long long m = strtoull(end + 1, &end, 10);
+		if (n == 0 || m == 0 || m > n)
+			return -1;
+		const char *shape = "knot";
+		size_t len = strlen(shape);
+		if (*end == ':') {
+			shape = end + 1;
+			len = strcspn(shape, ",");
+			end = (char *)shape + len;
+		}
+		if (len == 0 || len >= sizeof o->shapes[0] || (*end && *end != ','))
+			return -1;
+		memcpy(o->shapes[o->nsizes], shape, len);
+		o->shapes[o->nsizes][len] = '\0';
+		o->sizes[o->nsizes] = (size_t)n;
+		o->samples[o->nsizes++] = (size_t)m;
+		text = *end ? end + 1 : end;
+	}
+	return o->nsizes ? 0 : -1;
+}
+
+static int parse_stages(const char *text, options *o)
+{
+	memset(o->stages, 0, sizeof o->stages);
+	o->total = 0;
+	while (*text) {
+		size_t len = strcspn(text, ",");
+		int found = 0;
+		for (int s = 0; s < ST_COUNT; s++)
+			if (strlen(stage_names[s]) == len && !strncmp(text, stage_names[s], len))
+				o->stages[s] = found = 1;
+		if (len == strlen("total") && !strncmp(text, "total", len))
+			o->total = found = 1;
+		if (!found)
+			return -1;
+		text += len + (text[len] == ',');
+	}
+	for (int s = 0; s < ST_COUNT; s++)
+		if (o->stages[s])
+			return 0;
+	return o->total ? 0 : -1;
+}
+
+static int parse_options(int argc, char **argv, options *o)
+{
+	memset(o, 0, sizeof *o);
+	o->ref_max = DEFAULT_REF_MAX;
+	o->statue = 1;
+	o->warm_up = 1;
+	o->data = getenv("DP_DATA_DIR") ? getenv("DP_DATA_DIR") : "../shared/data";
+	parse_sizes(DEFAULT_SIZES, o);
+	parse_stages("wlop,normals,sink,skeleton,surface,total", o);
+	for (int a = 1; a < argc; a++) {
+		const char *arg = argv[a], *val = a + 1 < argc ? argv[a + 1] : NULL;
+		if (!strcmp(arg, "--quick")) {
+			parse_sizes(QUICK_SIZES, o);
+			o->statue = 0;
+			continue;
+		}
+		if (!strcmp(arg, "--no-statue")) {
+			o->statue = 0;
+			continue;
+		}
+		if (!strcmp(arg, "--ref-uncapped")) {
+			o->ref_uncapped = 1;
+			continue;
+		}
+		if (!strcmp(arg, "--no-warm-up")) {
+			o->warm_up = 0;
+			continue;
+		}
+		if (!val)
+			return -1;
+		if (!strcmp(arg, "--sizes")) {
+			if (parse_sizes(val, o))
+				return -1;
+		} else if (!strcmp(arg, "--stages")) {
+			if (parse_stages(val, o))
+				return -1;
+		} else if (!strcmp(arg, "--ref-max")) {
+			char *end;
+			o->ref_max = (size_t)strtoull(val, &end, 10);
+			if (*end)
+				return -1;
+		} else if (!strcmp(arg, "--device")) {
+			o->device = val;
+		} else if (!strcmp(arg, "--data")) {
+			o->data = val;
+		} else {
+			return -1;
+		}
+		a++;
+	}
+	return 0;
+}
+
+/* ------------------------------------------------------------------ inputs */
+
+/* Keeps n of the scan's points, chosen at random in their scan order
+ * (selection sampling: each kept with probability needed / remaining). */
+static dp_status keep_subset(const dp_cloud *scan, size_t n, dp_cloud *out, dp_error *err)
+{
+	dp_status st = dp_cloud_alloc(out, n, 0, err);
+	if (st != DP_OK)
+		return st;
+	dp_rng rng;
+	dp_rng_seed(&rng, SUBSET_SEED);
+	size_t kept = 0;
+	for (size_t i = 0; i < scan->n && kept < n; i++) {
+		if (dp_rng_uniform(&rng) * (double)(scan->n - i) >= (double)(n - kept))
+			continue;
+		out->x[kept] = scan->x[i];
+		out->y[kept] = scan->y[i];
+		out->z[kept] = scan->z[i];
+		kept++;
+	}
+	return DP_OK;
+}
+
+/* A noisy ring scan of the named shape with exactly n points. */
+static dp_status make_scan(const char *shape_name, size_t n, dp_cloud *out, dp_error *err)
+{
+	dp_shape shape;
+	dp_cloud mesh = {0}, scan = {0};
+	dp_status st = dp_shape_default(shape_name, &shape, err);
+	if (st == DP_OK)
+		st = dp_shape_mesh(&shape, &mesh, err);
+	dp_scan_params sp;
+	dp_scan_params_default(&sp);
+	sp.views = SCAN_VIEWS;
+	sp.noise = SCAN_NOISE;
+	sp.seed = SCAN_SEED;
+	sp.normals = 0;
+	sp.res = PROBE_RES;
+	if (st == DP_OK)
+		st = dp_scan(&mesh, &sp, &scan, NULL, err);
+	if (st != DP_OK)
+		goto done;
+	double hits_per_ray = (double)scan.n / ((double)sp.views * PROBE_RES * PROBE_RES);
+	double res = sqrt(RES_MARGIN * (double)n / (sp.views * hits_per_ray));
+	for (int t = 0; t < RES_TRIES && scan.n < n; t++, res *= RES_GROWTH) {
+		dp_cloud_free(&scan);
+		sp.res = (int)ceil(res);
+		if ((st = dp_scan(&mesh, &sp, &scan, NULL, err)) != DP_OK)
+			goto done;
+	}
+	if (scan.n < n)
+		st = dp_fail(err, DP_ERR_ARG, "bench_stages: a %d x %d scan of %s gives %zu < %zu points", sp.res,
+			     sp.res, shape_name, scan.n, n);
+	else
+		st = keep_subset(&scan, n, out, err);
+done:
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&scan);
+	return st;
+}
+
+/* ----------------------------------------------------------------- results */
+
+typedef struct input_case {
+	const char *name;
+	size_t size, samples;
+	const paper_row *paper;
+	int warm_up; /* OpenCL chain only, nothing printed */
+} input_case;
+
+/* One stage run on one backend. */
+typedef struct run_result {
+	double seconds, pairs;
+	int iterations; /* -1: not iterative (normals) */
+	int converged;  /* sinking: every point settled; -1: no test ran (normals, capped runs) */
+	double seconds_spacing;
+} run_result;
+
+static void print_head(const input_case *in, const char *stage, const char *backend)
+{
+	printf("{\"what\":\"stage\",\"stage\":\"%s\",\"input\":\"%s\",\"size\":%zu,\"samples\":%zu,\"backend\":\"%s\"",
+	       stage, in->name, in->size, in->samples, backend);
+}
+
+static void print_skip(const input_case *in, const char *stage, const char *backend, const char *why)
+{
+	print_head(in, stage, backend);
+	printf(",\"skipped\":\"%s\"}\n", why);
+	fflush(stdout);
+}
+
+/* The common fields; the caller adds its own and closes the line. */
+static void print_run(const input_case *in, const char *stage, dp_context *ctx, const run_result *r)
+{
+	const char *backend = dp_context_backend(ctx) == DP_BACKEND_CL ? "cl" : "ref";
+	double load[1] = {-1.0};
+	if (getloadavg(load, 1) < 1)
+		load[0] = -1.0;
+	print_head(in, stage, backend);
+	printf(",\"device\":\"%s\",\"seconds\":%.4f", dp_context_device_name(ctx), r->seconds);
+	if (r->iterations >= 0)
+		printf(",\"iterations\":%d,\"pair_evaluations\":%.6g,\"pair_evals_per_s\":%.4g", r->iterations,
+		       r->pairs, r->seconds > 0 ? r->pairs / r->seconds : 0.0);
+	else
+		printf(",\"iterations\":null,\"pair_evaluations\":null,\"pair_evals_per_s\":null");
+	if (r->converged >= 0)
+		printf(",\"converged\":%s", r->converged ? "true" : "false");
+	printf(",\"loadavg_1m\":%.2f", load[0]);
+}
+
+/* Mean distance between corresponding points of two clouds of one order, in r. */
+static double mean_diff(const dp_cloud *a, const dp_cloud *b, double r)
+{
+	if (a->n != b->n || a->n == 0)
+		return NAN;
+	double total = 0.0;
+	for (size_t i = 0; i < a->n; i++) {
+		double dx = a->x[i] - b->x[i], dy = a->y[i] - b->y[i], dz = a->z[i] - b->z[i];
+		total += sqrt(dx * dx + dy * dy + dz * dz);
+	}
+	return total / (double)a->n / r;
+}
+
+/* Ends a reference line: how its iterations were chosen and how far its
+ * output lies from the OpenCL one. */
+static void print_ref_tail(int capped, int cap, double diff_r)
+{
+	if (capped)
+		printf(",\"iters_capped_to_cl\":true,\"iteration_cap\":%d", cap);
+	else
+		printf(",\"iters_capped_to_cl\":false");
+	if (isfinite(diff_r))
+		printf(",\"mean_diff_r\":%.4g", diff_r);
+	printf("}\n");
+	fflush(stdout);
+}
+
+/* ------------------------------------------------------------------ stages */
+
+/* cap > 0: exactly cap iterations, convergence test off (the reference
+ * matched to the OpenCL run); cap == 0: the defaults. */
+
+static dp_status run_wlop(dp_context *ctx, const dp_cloud *c, size_t m, int cap, dp_cloud *s, run_result *r,
+			  dp_error *err)
+{
+	dp_wlop_params p;
+	dp_wlop_params_default(&p);
+	p.samples = m;
+	if (cap) {
+		p.max_iters = cap;
+		p.tol = 0.0;
+	}
+	dp_wlop_stats st;
+	double t0 = dp_seconds();
+	dp_status rc = dp_wlop(ctx, c, &p, s, &st, err);
+	r->seconds = dp_seconds() - t0;
+	r->pairs = st.pair_evaluations;
+	r->iterations = st.iterations;
+	r->converged = -1;
+	return rc;
+}
+
+/* Normals of a copy of S's positions, then r (paper Eq. 1), as the pipeline
+ * does between WLOP and sinking. */
+static dp_status run_normals(const dp_cloud *s, dp_cloud *out, double *spacing, run_result *r, dp_error *err)
+{
+	dp_status rc = dp_cloud_alloc(out, s->n, 0, err);
+	if (rc != DP_OK)
+		return rc;
+	memcpy(out->x, s->x, s->n * sizeof(float));
+	memcpy(out->y, s->y, s->n * sizeof(float));
+	memcpy(out->z, s->z, s->n * sizeof(float));
+	double t0 = dp_seconds();
+	rc = dp_estimate_normals(out, NULL, err);
+	double t1 = dp_seconds();
+	if (rc == DP_OK)
+		rc = dp_mean_spacing(out->n, out->x, out->y, out->z, spacing, err);
+	double t2 = dp_seconds();
+	r->seconds = t2 - t0;
+	r->seconds_spacing = t2 - t1;
+	r->pairs = 0.0;
+	r->iterations = r->converged = -1;
+	if (rc == DP_OK && !(*spacing > 0.0))
+		rc = dp_fail(err, DP_ERR_EMPTY, "bench_stages: the %zu samples coincide: no spacing r", s->n);
+	return rc;
+}
+
+static dp_status run_sink(dp_context *ctx, const dp_cloud *s, double r_unit, int cap, dp_cloud *h, run_result *r,
+			  dp_error *err)
+{
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	if (cap)
+		p.max_iters = cap;
+	dp_sink_stats st;
+	double t0 = dp_seconds();
+	dp_status rc = dp_sink(ctx, s, r_unit, &p, h, &st, err);
+	r->seconds = dp_seconds() - t0;
+	r->pairs = st.pair_evaluations;
+	r->iterations = st.iterations;
+	r->converged = st.unsettled == 0;
+	return rc;
+}
+
+static dp_status run_skeleton(dp_context *ctx, const dp_cloud *h, double r_unit, int cap, dp_cloud *q,
+			      run_result *r, dp_error *err)
+{
+	dp_skeleton_params p;
+	dp_skeleton_params_default(&p);
+	if (cap) {
+		/* A window longer than the run and no move threshold: exactly cap. */
+		p.max_iters = cap;
+		p.window = cap + 1;
+		p.min_move_r = 0.0;
+	}
+	dp_skeleton_stats st;
+	double t0 = dp_seconds();
+	dp_status rc = dp_skeleton(ctx, h, r_unit, &p, q, &st, err);
+	r->seconds = dp_seconds() - t0;
+	r->pairs = st.pair_evaluations;
+	r->iterations = st.iterations;
+	r->converged = cap ? -1 : st.converged;
+	return rc;
+}
+
+/* dp_surface updates the skeleton in place (re-attachment), so each backend
+ * gets its own copy of Q; *eta is caller-allocated, |S| floats. */
+static dp_status run_surface(dp_context *ctx, const dp_cloud *c, const dp_cloud *s, const dp_cloud *q,
+			     double r_unit, int cap, dp_cloud *p_out, float *eta, run_result *r, dp_error *err)
+{
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	if (cap) {
+		/* The stop test compares two windows: never before 2 windows. */
+		p.max_iters = cap;
+		p.window = cap + 1;
+	}
+	dp_cloud qc;
+	dp_status rc = dp_cloud_copy(&qc, q, err);
+	if (rc != DP_OK)
+		return rc;
+	dp_surface_stats st;
+	double t0 = dp_seconds();
+	rc = dp_surface(ctx, c, s, &qc, r_unit, &p, p_out, eta, &st, err);
+	r->seconds = dp_seconds() - t0;
+	r->pairs = st.pair_evaluations;
+	r->iterations = st.iterations;
+	r->converged = cap ? -1 : st.converged;
+	dp_cloud_free(&qc);
+	return rc;
+}
+
+/* ---------------------------------------------------------------- one input */
+
+typedef struct bench {
+	const options *o;
+	dp_context *cl, *ref;
+} bench;
+
+/* The OpenCL run's data: the input, each stage's output (out[ST_WLOP] = S,
+ * out[ST_NORMALS] = S with normals, out[ST_SINK] = H, out[ST_SKELETON] = Q,
+ * out[ST_SURFACE] = P) and r. Both backends read their stage input here. */
+typedef struct chain {
+	const dp_cloud *c;
+	size_t samples;
+	dp_cloud out[ST_COUNT];
+	double r;
+	float *eta;
+} chain;
+
+/* Stage s on ctx, from the OpenCL chain's input of that stage, into *out. */
+static dp_status run_stage(dp_context *ctx, stage_id s, int cap, const chain *ch, dp_cloud *out, double *r_out,
+			   run_result *res, dp_error *err)
+{
+	switch (s) {
+	case ST_WLOP:
+		return run_wlop(ctx, ch->c, ch->samples, cap, out, res, err);
+	case ST_NORMALS:
+		return run_normals(&ch->out[ST_WLOP], out, r_out, res, err);
+	case ST_SINK:
+		return run_sink(ctx, &ch->out[ST_NORMALS], ch->r, cap, out, res, err);
+	case ST_SKELETON:
+		return run_skeleton(ctx, &ch->out[ST_SINK], ch->r, cap, out, res, err);
+	case ST_SURFACE:
+		return run_surface(ctx, ch->c, &ch->out[ST_NORMALS], &ch->out[ST_SKELETON], ch->r, cap, out, ch->eta,
+				   res, err);
+	default:
+		return dp_fail(err, DP_ERR_INTERNAL, "bench_stages: no stage %d", (int)s);
+	}
+}
+
+static void print_totals(const bench *b, const input_case *in, const run_result *cl_runs,
+			 const run_result *ref_runs, int ref_complete, const char *ref_why)
+{
+	for (int k = 0; k < 2; k++) {
+		const run_result *runs = k ? ref_runs : cl_runs;
+		if (k && !ref_complete) {
+			print_skip(in, "total", "ref", ref_why);
+			continue;
+		}
+		run_result t = {.converged = -1};
+		for (int s = 0; s < ST_COUNT; s++) {
+			t.seconds += runs[s].seconds;
+			t.pairs += runs[s].pairs;
+			t.iterations += runs[s].iterations > 0 ? runs[s].iterations : 0;
+		}
+		print_run(in, "total", k ? b->ref : b->cl, &t);
+		if (in->paper)
+			printf(",\"paper_seconds\":%.1f,\"paper_wlop_seconds\":%.1f,\"paper_deep_seconds\":%.1f",
+			       in->paper->tw + in->paper->td, in->paper->tw, in->paper->td);
+		printf(",\"deep_seconds\":%.4f", t.seconds - runs[ST_WLOP].seconds);
+		if (k)
+			printf(",\"iters_capped_to_cl\":%s", b->o->ref_uncapped ? "false" : "true");
+		printf("}\n");
+		fflush(stdout);
+	}
+}
+
+/* The OpenCL chain and the reference beside it, stage by stage. A stage not
+ * asked for still runs on OpenCL when a later one needs its output, but
+ * prints nothing. */
+static int run_input(const bench *b, const input_case *in, const dp_cloud *c)
+{
+	const options *o = b->o;
+	int last = in->warm_up ? ST_SURFACE : -1;
+	for (int s = 0; s < ST_COUNT; s++)
+		if (o->stages[s] || o->total)
+			last = s;
+	int use_ref = !in->warm_up && (!o->ref_max || in->samples <= o->ref_max);
+	char why[96];
+	snprintf(why, sizeof why, "samples %zu above --ref-max %zu", in->samples, o->ref_max);
+	dp_error err = {0};
+	chain ch = {.c = c, .samples = in->samples};
+	dp_cloud ref_out = {0};
+	run_result cl_runs[ST_COUNT], ref_runs[ST_COUNT];
+	memset(cl_runs, 0, sizeof cl_runs);
+	memset(ref_runs, 0, sizeof ref_runs);
+	int ref_stages = 0, rc = -1;
+	if (!(ch.eta = dp_alloc_array(in->samples, sizeof(float)))) {
+		dp_fail(&err, DP_ERR_NOMEM, "bench_stages: out of memory");
+		goto done;
+	}
+	for (int s = 0; s <= last; s++) {
+		int want = o->stages[s] && !in->warm_up;
+		if (!in->warm_up)
+			fprintf(stderr, "bench_stages: %s %s\n", in->name, stage_names[s]);
+		if (run_stage(b->cl, (stage_id)s, 0, &ch, &ch.out[s], &ch.r, &cl_runs[s], &err) != DP_OK)
+			goto done;
+		/* r for the diffs of WLOP too; the normals line times it. */
+		if (s == ST_WLOP &&
+		    dp_mean_spacing(ch.out[s].n, ch.out[s].x, ch.out[s].y, ch.out[s].z, &ch.r, &err) != DP_OK)
+			goto done;
+		if (!want)
+			continue;
+		print_run(in, stage_names[s], b->cl, &cl_runs[s]);
+		if (s == ST_WLOP && in->paper)
+			printf(",\"paper_seconds\":%.1f", in->paper->tw);
+		if (s == ST_NORMALS)
+			printf(",\"r\":%.6g,\"seconds_spacing\":%.4f,\"host_only\":true", ch.r,
+			       cl_runs[s].seconds_spacing);
+		printf("}\n");
+		fflush(stdout);
+		if (!use_ref) {
+			print_skip(in, stage_names[s], "ref", why);
+			continue;
+		}
+
+		int cap = o->ref_uncapped ? 0 : cl_runs[s].iterations;
+		double r_ref;
+		if (run_stage(b->ref, (stage_id)s, cap, &ch, &ref_out, &r_ref, &ref_runs[s], &err) != DP_OK)
+			goto done;
+		ref_stages |= 1 << s;
+		print_run(in, stage_names[s], b->ref, &ref_runs[s]);
+		if (s == ST_NORMALS) {
+			printf(",\"r\":%.6g,\"seconds_spacing\":%.4f,\"host_only\":true}\n", r_ref,
+			       ref_runs[s].seconds_spacing);
+			fflush(stdout);
+		} else {
+			print_ref_tail(cap > 0, cap, mean_diff(&ch.out[s], &ref_out, ch.r));
+		}
+		dp_cloud_free(&ref_out);
+	}
+	if (o->total && !in->warm_up)
+		print_totals(b, in, cl_runs, ref_runs, ref_stages == (1 << ST_COUNT) - 1,
+			     use_ref ? "not every stage ran on the reference" : why);
+	rc = 0;
+done:
+	if (rc)
+		fprintf(stderr, "bench_stages: %s: %s\n", in->name, err.message);
+	for (int s = 0; s < ST_COUNT; s++)
+		dp_cloud_free(&ch.out[s]);
+	dp_cloud_free(&ref_out);
+	free(ch.eta);
+	return rc;
+}
+
+int main(int argc, char **argv)
+{
+	options o;
+	if (parse_options(argc, argv, &o)) {
+		fprintf(stderr, "usage: bench_stages [--sizes C:S[:shape],...|none] "
+				"[--stages wlop,normals,sink,skeleton,surface,total]\n"
+				"                    [--ref-max N] [--ref-uncapped] [--quick] [--no-statue] "
+				"[--no-warm-up]\n                    [--device D] [--data DIR]\n");
+		return 2;
+	}
+	dp_error err = {0};
+	bench b = {.o = &o};
+	if (dp_context_create(&b.cl, DP_BACKEND_CL, o.device, &err) != DP_OK ||
+	    dp_context_create(&b.ref, DP_BACKEND_REF, NULL, &err) != DP_OK) {
+		fprintf(stderr, "bench_stages: %s\n", err.message);
+		dp_context_free(b.cl);
+		return 1;
+	}
+	int rc = 0;
+	if (o.warm_up) {
+		input_case in = {.name = "warm-up", .size = WARM_UP_SIZE, .samples = WARM_UP_SAMPLES, .warm_up = 1};
+		dp_cloud c;
+		if (make_scan(WARM_UP_SHAPE, WARM_UP_SIZE, &c, &err) != DP_OK) {
+			fprintf(stderr, "bench_stages: %s\n", err.message);
+			rc = 1;
+		} else {
+			rc = run_input(&b, &in, &c) ? 1 : 0;
+			dp_cloud_free(&c);
+		}
+	}
+	for (int i = 0; i < o.nsizes && !rc; i++) {
+		char name[64];
+		snprintf(name, sizeof name, "%s-%zu", o.shapes[i], o.sizes[i]);
+		input_case in = {.name = name, .size = o.sizes[i], .samples = o.samples[i],
+				 .paper = paper_lookup(o.sizes[i], o.samples[i])};
+		dp_cloud c;
+		fprintf(stderr, "bench_stages: scanning %s\n", name);
+		if (make_scan(o.shapes[i], o.sizes[i], &c, &err) != DP_OK) {
+			fprintf(stderr, "bench_stages: %s\n", err.message);
+			rc = 1;
+			break;
+		}
+		rc = run_input(&b, &in, &c) ? 1 : 0;
+		dp_cloud_free(&c);
+	}
+	if (!rc && o.statue) {
+		char path[4096];
+		snprintf(path, sizeof path, "%s/%s", o.data, STATUE_FILE);
+		dp_cloud c;
+		if (dp_cloud_read(path, &c, DP_READ_POINTS, &err) != DP_OK) {
+			fprintf(stderr, "bench_stages: skipping the statue: %s\n", err.message);
+			input_case in = {.name = STATUE_NAME, .samples = STATUE_SAMPLES};
+			print_skip(&in, "total", "cl", "statue data absent or unreadable");
+		} else {
+			input_case in = {.name = STATUE_NAME, .size = c.n, .samples = STATUE_SAMPLES,
+					 .paper = paper_lookup(c.n, STATUE_SAMPLES)};
+			rc = run_input(&b, &in, &c) ? 1 : 0;
+			dp_cloud_free(&c);
+		}
+	}
+	dp_context_free(b.cl);
+	dp_context_free(b.ref);
+	return rc;
+}
