@@ -294,6 +294,8 @@ typedef struct run_result {
 	int iterations; /* -1: not iterative (normals) */
 	int converged;  /* sinking: every point settled; -1: no test ran (normals, capped runs) */
 	double seconds_spacing;
+	int sink;       /* the three counts below are set */
+	size_t settled_front, settled_slow, unsettled;
 } run_result;
 
 static void print_head(const input_case *in, const char *stage, const char *backend)
@@ -325,6 +327,9 @@ static void print_run(const input_case *in, const char *stage, dp_context *ctx, 
 		printf(",\"iterations\":null,\"pair_evaluations\":null,\"pair_evals_per_s\":null");
 	if (r->converged >= 0)
 		printf(",\"converged\":%s", r->converged ? "true" : "false");
+	if (r->sink)
+		printf(",\"settled_front\":%zu,\"settled_slow\":%zu,\"unsettled\":%zu", r->settled_front,
+		       r->settled_slow, r->unsettled);
 	printf(",\"loadavg_1m\":%.2f", load[0]);
 }
 
@@ -376,7 +381,7 @@ static dp_status run_wlop(dp_context *ctx, const dp_cloud *c, size_t m, int cap,
 	r->seconds = dp_seconds() - t0;
 	r->pairs = st.pair_evaluations;
 	r->iterations = st.iterations;
-	r->converged = -1;
+	r->converged = cap ? -1 : st.converged;
 	return rc;
 }
 
@@ -419,6 +424,10 @@ static dp_status run_sink(dp_context *ctx, const dp_cloud *s, double r_unit, int
 	r->pairs = st.pair_evaluations;
 	r->iterations = st.iterations;
 	r->converged = st.unsettled == 0;
+	r->sink = 1;
+	r->settled_front = st.settled_front;
+	r->settled_slow = st.settled_slow;
+	r->unsettled = st.unsettled;
 	return rc;
 }
 
