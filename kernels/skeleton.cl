@@ -76,6 +76,12 @@ __kernel void skeleton_semiaxes(const uint n, __global const float *qx, __global
 	float m0x = m_[0], m0y = m_[1], m0z = m_[2], m1x = m_[3], m1y = m_[4], m1z = m_[5]; \
 	float m2x = m_[6], m2y = m_[7], m2z = m_[8];
 
+/* The query's scan reach in cells along x, y, z (host/backend/skeleton_ops.h). */
+#define SKELETON_REACH_LOAD(reach, i)                                              \
+	int rx = grid_reach_cells((reach)[3 * (i)], grid_origin_cell.w, grid_dim.w);     \
+	int ry = grid_reach_cells((reach)[3 * (i) + 1], grid_origin_cell.w, grid_dim.w); \
+	int rz = grid_reach_cells((reach)[3 * (i) + 2], grid_origin_cell.w, grid_dim.w);
+
 float skeleton_u2(float m0x, float m0y, float m0z, float m1x, float m1y, float m1z, float m2x, float m2y,
 		  float m2z, float dx, float dy, float dz)
 {
@@ -86,17 +92,18 @@ float skeleton_u2(float m0x, float m0y, float m0z, float m1x, float m1y, float m
 }
 
 __kernel void skeleton_median(const uint n, __global const float *qx, __global const float *qy,
-			      __global const float *qz, __global const float *metric, GRID_ARGS,
-			      const float cutoff, const float min_d2, __global float *median)
+			      __global const float *qz, __global const float *metric, __global const float *reach,
+			      GRID_ARGS, const float cutoff, const float min_d2, __global float *median)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
 	float px = qx[i], py = qy[i], pz = qz[i];
 	SKELETON_METRIC_LOAD(metric, i)
+	SKELETON_REACH_LOAD(reach, i)
 	float cut2 = cutoff * cutoff;
 	float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-	GRID_FOR(px, py, pz, k)
+	GRID_FOR_REACH(px, py, pz, rx, ry, rz, k)
 		float hx = gx[k], hy = gy[k], hz = gz[k];
 		float dx = px - hx, dy = py - hy, dz = pz - hz;
 		float d2 = dx * dx + dy * dy + dz * dz;
@@ -117,17 +124,18 @@ __kernel void skeleton_median(const uint n, __global const float *qx, __global c
 }
 
 __kernel void skeleton_repulse(const uint n, __global const float *qx, __global const float *qy,
-			       __global const float *qz, __global const float *metric, GRID_ARGS,
-			       const float cutoff, const float min_d2, __global float *repulse)
+			       __global const float *qz, __global const float *metric, __global const float *reach,
+			       GRID_ARGS, const float cutoff, const float min_d2, __global float *repulse)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
 	float px = qx[i], py = qy[i], pz = qz[i];
 	SKELETON_METRIC_LOAD(metric, i)
+	SKELETON_REACH_LOAD(reach, i)
 	float cut2 = cutoff * cutoff;
 	float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-	GRID_FOR(px, py, pz, k)
+	GRID_FOR_REACH(px, py, pz, rx, ry, rz, k)
 		float dx = px - gx[k], dy = py - gy[k], dz = pz - gz[k];
 		float d2 = dx * dx + dy * dy + dz * dz;
 		float u2 = skeleton_u2(m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z, dx, dy, dz);

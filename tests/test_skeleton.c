@@ -282,15 +282,27 @@ static void test_sphere(void **state)
 }
 
 /* The whole stage on both backends: same iterations, same points (up to float
- * rounding amplified by a few eigen-decompositions). */
+ * rounding amplified by a few eigen-decompositions).
+ *
+ * The stage is discontinuous where a neighbour crosses the PCA radius
+ * sigma_q r: backends that differ by float rounding (about 1e-5 r after a few
+ * iterations) then disagree about that neighbour, and the point's ellipsoid
+ * and move differ by up to 0.05 r. Measured on this torus over seeds 25-64,
+ * about 1 input in 8 has such a crossing within 6 iterations, as often with
+ * the 27-cell scans as with the per-query reach scans (only the summation
+ * order differs). Seed 26 has none with either (worst difference 6e-5 r), so
+ * this compares rounding-level agreement; seed 25, used before, has one with
+ * the reach scans (0.014 r). A rounding change elsewhere (device, compiler)
+ * can bring a crossing in: try other seeds before suspecting a kernel. */
 #define AGREE_ITERS 6
 #define AGREE_TOL_R 1e-2
+#define AGREE_SEED 26
 static void test_backends_agree(void **state)
 {
 	(void)state;
 	const double dims[2] = {1.0, 0.3};
 	dp_cloud h, qref, qcl;
-	double r = make_anchors(sample_torus, dims, 600, 25, &h);
+	double r = make_anchors(sample_torus, dims, 600, AGREE_SEED, &h);
 	dp_skeleton_params p;
 	dp_skeleton_params_default(&p);
 	p.max_iters = AGREE_ITERS;

@@ -51,8 +51,22 @@ dp_status dp_op_skeleton_semiaxes(dp_context *ctx, const dp_skeleton_semiaxes_ar
  * rows metric[9*i + 3*m + c] = v_i^m_c / (l_i^m r), and ϑ = exp(-u²). Both
  * sums below take the grid's points x with u <= cutoff and |q_i - x|² >=
  * min_d2: the second test skips q_i itself and exact duplicates, where 1/d and
- * 1/u⁵ are infinite. The grid cell must be >= cutoff · r · max l (the longest
- * reach of any query). */
+ * 1/u⁵ are infinite.
+ *
+ * Reaches vary a lot between queries (l from about 1 to 1/eps), so each query
+ * scans only the grid cells that its ellipsoid's axis-aligned bounding box
+ * touches: reach[3*i + a] >= the box's half-extent along axis a
+ * (dp_skeleton_reach), and the grid is built with a margin that covers the
+ * longest reach (dp_grid_build_margin, margin * cell >= every reach; the
+ * dispatchers check it). Any cell size works; the reach only bounds the scan,
+ * the sums are those above. */
+
+/* Half-extents of each query's ellipsoid {x : u <= cutoff} along x, y, z:
+ * reach[3*i + a] = cutoff · |row a of M_i^-1| for the 3x3 metric M_i, with a
+ * little slack for float rounding (computed in double). Returns the longest
+ * (ignoring NaN); a singular or non-finite metric gives an infinite or NaN
+ * reach, which the dispatchers reject. */
+float dp_skeleton_reach(size_t nq, const float *metric, float cutoff, float *reach);
 
 /* Anisotropic L1-median step over the anchors H:
  * median[3*i + c] = Σ α_k h_k / Σ α_k, α_k = ϑ(q_i, h_k) / |q_i - h_k|;
@@ -62,6 +76,7 @@ typedef struct dp_skeleton_median_args {
 	size_t nq;
 	const float *qx, *qy, *qz;
 	const float *metric;  /* 9*nq */
+	const float *reach;   /* 3*nq, dp_skeleton_reach */
 	float cutoff, min_d2;
 	float *median;        /* 3*nq */
 } dp_skeleton_median_args;
@@ -77,6 +92,7 @@ typedef struct dp_skeleton_repulse_args {
 	size_t nq;
 	const float *qx, *qy, *qz;
 	const float *metric;  /* 9*nq */
+	const float *reach;   /* 3*nq, dp_skeleton_reach */
 	float cutoff, min_d2;
 	float *repulse;       /* 3*nq */
 } dp_skeleton_repulse_args;

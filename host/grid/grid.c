@@ -46,8 +46,17 @@ static dp_status reserve(dp_grid *g, size_t n, uint32_t ncells, dp_error *err)
 dp_status dp_grid_build(dp_grid *g, size_t n, const float *x, const float *y, const float *z, float cell,
 			dp_error *err)
 {
+	return dp_grid_build_margin(g, n, x, y, z, cell, 1, err);
+}
+
+dp_status dp_grid_build_margin(dp_grid *g, size_t n, const float *x, const float *y, const float *z, float cell,
+			       int margin, dp_error *err)
+{
 	if (!(cell > 0.0f) || !isfinite(cell))
 		return dp_fail(err, DP_ERR_ARG, "grid: cell size %g is not a positive number", (double)cell);
+	if (margin < 1 || margin > DP_GRID_MAX_MARGIN)
+		return dp_fail(err, DP_ERR_ARG, "grid: margin %d is outside [1, %d] cells", margin,
+			       DP_GRID_MAX_MARGIN);
 	if (n > UINT32_MAX)
 		return dp_fail(err, DP_ERR_ARG, "grid: %zu points exceed the 32-bit index range", n);
 
@@ -69,16 +78,17 @@ dp_status dp_grid_build(dp_grid *g, size_t n, const float *x, const float *y, co
 	for (;;) {
 		double cells = 1.0;
 		for (int a = 0; a < 3; a++)
-			cells *= floor((double)(hi[a] - lo[a]) / cell) + 3.0;
+			cells *= floor((double)(hi[a] - lo[a]) / cell) + 1.0 + 2.0 * margin;
 		if (cells <= (double)DP_GRID_MAX_CELLS)
 			break;
 		cell *= 1.25f;
 	}
 	g->cell = cell;
+	g->margin = margin;
 	g->ncells = 1;
 	for (int a = 0; a < 3; a++) {
-		g->dim[a] = (int)floorf((hi[a] - lo[a]) / cell) + 3;
-		g->origin[a] = lo[a] - cell;
+		g->dim[a] = (int)floorf((hi[a] - lo[a]) / cell) + 1 + 2 * margin;
+		g->origin[a] = lo[a] - (float)margin * cell;
 		g->ncells *= (uint32_t)g->dim[a];
 	}
 	dp_status st = reserve(g, n, g->ncells, err);
@@ -137,6 +147,24 @@ double dp_grid_candidates(const dp_grid *g, size_t nq, const float *qx, const fl
 		dp_grid_rows(g, qx[i], qy[i], qz[i], beg, end);
 		for (int r = 0; r < 9; r++)
 			total += (double)(end[r] - beg[r]);
+	}
+	return total;
+}
+
+double dp_grid_candidates_reach(const dp_grid *g, size_t nq, const float *qx, const float *qy, const float *qz,
+				const float *reach)
+{
+	double total = 0.0;
+	for (size_t i = 0; i < nq; i++) {
+		int cx = dp_grid_coord(g, 0, qx[i]), cy = dp_grid_coord(g, 1, qy[i]), cz = dp_grid_coord(g, 2, qz[i]);
+		int rx = dp_grid_reach_cells(g, reach[3 * i]), ry = dp_grid_reach_cells(g, reach[3 * i + 1]);
+		int rz = dp_grid_reach_cells(g, reach[3 * i + 2]);
+		for (int dz = -rz; dz <= rz; dz++)
+			for (int dy = -ry; dy <= ry; dy++) {
+				uint32_t beg, end;
+				dp_grid_row(g, cx, cy + dy, cz + dz, rx, &beg, &end);
+				total += (double)(end - beg);
+			}
 	}
 	return total;
 }

@@ -79,27 +79,43 @@ static float ellipsoid_u2(const float *m, float dx, float dy, float dz)
 	return a * a + b * b + c * c;
 }
 
+/* Query i's clamped cell c and its reach rc in cells along x, y, z: the scan
+ * takes the rows dp_grid_row(c[0], c[1] + dy, c[2] + dz, rc[0]) for |dy| <=
+ * rc[1], |dz| <= rc[2]. */
+static void scan_box(const dp_grid *g, float px, float py, float pz, const float *reach, int c[3], int rc[3])
+{
+	c[0] = dp_grid_coord(g, 0, px);
+	c[1] = dp_grid_coord(g, 1, py);
+	c[2] = dp_grid_coord(g, 2, pz);
+	for (int a = 0; a < 3; a++)
+		rc[a] = dp_grid_reach_cells(g, reach[a]);
+}
+
 void dp_ref_skeleton_median(const dp_skeleton_median_args *a)
 {
 	const dp_grid *g = a->data;
 	float cut2 = a->cutoff * a->cutoff;
-	uint32_t beg[9], end[9];
 	for (size_t i = 0; i < a->nq; i++) {
 		const float *m = a->metric + 9 * i;
 		float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-		dp_grid_rows(g, a->qx[i], a->qy[i], a->qz[i], beg, end);
-		for (int r = 0; r < 9; r++)
-			for (uint32_t k = beg[r]; k < end[r]; k++) {
-				float dx = a->qx[i] - g->x[k], dy = a->qy[i] - g->y[k], dz = a->qz[i] - g->z[k];
-				float d2 = dx * dx + dy * dy + dz * dz;
-				float u2 = ellipsoid_u2(m, dx, dy, dz);
-				if (u2 > cut2 || d2 < a->min_d2)
-					continue;
-				float alpha = expf(-u2) / sqrtf(d2);
-				w += alpha;
-				sx += alpha * g->x[k];
-				sy += alpha * g->y[k];
-				sz += alpha * g->z[k];
+		int c[3], rc[3];
+		scan_box(g, a->qx[i], a->qy[i], a->qz[i], a->reach + 3 * i, c, rc);
+		for (int dz = -rc[2]; dz <= rc[2]; dz++)
+			for (int dy = -rc[1]; dy <= rc[1]; dy++) {
+				uint32_t beg, end;
+				dp_grid_row(g, c[0], c[1] + dy, c[2] + dz, rc[0], &beg, &end);
+				for (uint32_t k = beg; k < end; k++) {
+					float ex = a->qx[i] - g->x[k], ey = a->qy[i] - g->y[k], ez = a->qz[i] - g->z[k];
+					float d2 = ex * ex + ey * ey + ez * ez;
+					float u2 = ellipsoid_u2(m, ex, ey, ez);
+					if (u2 > cut2 || d2 < a->min_d2)
+						continue;
+					float alpha = expf(-u2) / sqrtf(d2);
+					w += alpha;
+					sx += alpha * g->x[k];
+					sy += alpha * g->y[k];
+					sz += alpha * g->z[k];
+				}
 			}
 		float *out = a->median + 3 * i;
 		if (w > 0.0f) {
@@ -118,23 +134,27 @@ void dp_ref_skeleton_repulse(const dp_skeleton_repulse_args *a)
 {
 	const dp_grid *g = a->data;
 	float cut2 = a->cutoff * a->cutoff;
-	uint32_t beg[9], end[9];
 	for (size_t i = 0; i < a->nq; i++) {
 		const float *m = a->metric + 9 * i;
 		float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-		dp_grid_rows(g, a->qx[i], a->qy[i], a->qz[i], beg, end);
-		for (int r = 0; r < 9; r++)
-			for (uint32_t k = beg[r]; k < end[r]; k++) {
-				float dx = a->qx[i] - g->x[k], dy = a->qy[i] - g->y[k], dz = a->qz[i] - g->z[k];
-				float d2 = dx * dx + dy * dy + dz * dz;
-				float u2 = ellipsoid_u2(m, dx, dy, dz);
-				if (u2 > cut2 || d2 < a->min_d2)
-					continue;
-				float beta = expf(-u2) / (u2 * u2 * sqrtf(u2));
-				w += beta;
-				sx += beta * dx;
-				sy += beta * dy;
-				sz += beta * dz;
+		int c[3], rc[3];
+		scan_box(g, a->qx[i], a->qy[i], a->qz[i], a->reach + 3 * i, c, rc);
+		for (int dz = -rc[2]; dz <= rc[2]; dz++)
+			for (int dy = -rc[1]; dy <= rc[1]; dy++) {
+				uint32_t beg, end;
+				dp_grid_row(g, c[0], c[1] + dy, c[2] + dz, rc[0], &beg, &end);
+				for (uint32_t k = beg; k < end; k++) {
+					float ex = a->qx[i] - g->x[k], ey = a->qy[i] - g->y[k], ez = a->qz[i] - g->z[k];
+					float d2 = ex * ex + ey * ey + ez * ez;
+					float u2 = ellipsoid_u2(m, ex, ey, ez);
+					if (u2 > cut2 || d2 < a->min_d2)
+						continue;
+					float beta = expf(-u2) / (u2 * u2 * sqrtf(u2));
+					w += beta;
+					sx += beta * ex;
+					sy += beta * ey;
+					sz += beta * ez;
+				}
 			}
 		float *out = a->repulse + 3 * i;
 		if (w > 0.0f) {
