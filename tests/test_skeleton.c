@@ -281,22 +281,21 @@ static void test_sphere(void **state)
 	dp_cloud_free(&q);
 }
 
-/* The whole stage on both backends: same iterations, same points (up to float
- * rounding amplified by a few eigen-decompositions).
+/* The whole stage on both backends: same iterations, same points up to float
+ * rounding amplified by a few eigen-decompositions.
  *
  * The stage is discontinuous where a neighbour crosses the PCA radius
  * sigma_q r: backends that differ by float rounding (about 1e-5 r after a few
- * iterations) then disagree about that neighbour, and the point's ellipsoid
- * and move differ by up to 0.05 r. Measured on this torus over seeds 25-64,
- * about 1 input in 8 has such a crossing within 6 iterations, as often with
- * the 27-cell scans as with the per-query reach scans (only the summation
- * order differs). Seed 26 has none with either (worst difference 6e-5 r), so
- * this compares rounding-level agreement; seed 25, used before, has one with
- * the reach scans (0.014 r). A rounding change elsewhere (device, compiler)
- * can bring a crossing in: try other seeds before suspecting a kernel. */
+ * iterations) then disagree about that neighbour, and that point's ellipsoid
+ * and move differ by up to 0.05 r. Measured on this torus over 40 seeds, about
+ * 1 input in 8 has such a crossing within 6 iterations. So the check is: all
+ * but a few points agree at rounding level, and no point differs by more than
+ * a crossing can explain. */
 #define AGREE_ITERS 6
-#define AGREE_TOL_R 1e-2
-#define AGREE_SEED 26
+#define AGREE_SEED 25
+#define AGREE_ROUNDING_R 1e-3   /* rounding-level agreement, in r */
+#define AGREE_MIN_FRACTION 0.98 /* of the points */
+#define AGREE_CROSSING_R 0.1    /* at most what one radius crossing moves a point, in r */
 static void test_backends_agree(void **state)
 {
 	(void)state;
@@ -313,14 +312,19 @@ static void test_backends_agree(void **state)
 		fail_msg("%s", err.message);
 	assert_int_equal(sref.iterations, scl.iterations);
 	double worst = 0.0, moved = 0.0;
+	size_t agree = 0;
 	for (size_t i = 0; i < h.n; i++) {
-		worst = fmax(worst, hypot(hypot(qref.x[i] - qcl.x[i], qref.y[i] - qcl.y[i]), qref.z[i] - qcl.z[i]));
+		double d = hypot(hypot(qref.x[i] - qcl.x[i], qref.y[i] - qcl.y[i]), qref.z[i] - qcl.z[i]);
+		worst = fmax(worst, d);
+		agree += d < AGREE_ROUNDING_R * r;
 		moved += hypot(hypot(qref.x[i] - h.x[i], qref.y[i] - h.y[i]), qref.z[i] - h.z[i]);
 	}
-	print_message("backends: %d iterations, largest difference %.2g r, mean total move %.2f r\n",
-		      sref.iterations, worst / r, moved / (double)h.n / r);
+	print_message("backends: %d iterations, %zu of %zu points within %g r, largest difference %.2g r, "
+		      "mean total move %.2f r\n",
+		      sref.iterations, agree, h.n, AGREE_ROUNDING_R, worst / r, moved / (double)h.n / r);
 	assert_true(moved / (double)h.n > r); /* the comparison is of a run that did something */
-	assert_true(worst < AGREE_TOL_R * r);
+	assert_true((double)agree >= AGREE_MIN_FRACTION * (double)h.n);
+	assert_true(worst < AGREE_CROSSING_R * r);
 	dp_cloud_free(&h);
 	dp_cloud_free(&qref);
 	dp_cloud_free(&qcl);
