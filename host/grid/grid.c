@@ -74,12 +74,16 @@ dp_status dp_grid_build_margin(dp_grid *g, size_t n, const float *x, const float
 		lo[2] = fminf(lo[2], z[i]);
 		hi[2] = fmaxf(hi[2], z[i]);
 	}
-	/* Grow the cell until the grid fits the cap; cells only need to be >= radius. */
+	/* Grow the cell until the grid fits the caps; cells only need to be >= radius. */
+	double side = 2.0 * margin + 2.0; /* the margins alone need this many cells per axis */
+	double cap = fmin((double)DP_GRID_MAX_CELLS,
+			  fmax(fmax((double)DP_GRID_MIN_CELLS, side * side * side),
+			       (double)DP_GRID_CELLS_PER_POINT * (double)n));
 	for (;;) {
 		double cells = 1.0;
 		for (int a = 0; a < 3; a++)
 			cells *= floor((double)(hi[a] - lo[a]) / cell) + 1.0 + 2.0 * margin;
-		if (cells <= (double)DP_GRID_MAX_CELLS)
+		if (cells <= cap)
 			break;
 		cell *= 1.25f;
 	}
