@@ -2,6 +2,7 @@
  * then a consistent outward orientation (stages/orient.c) or, when the
  * scanner position is known, orientation towards it. */
 #include "core/common.h"
+#include "core/distinct.h"
 #include "core/eig3.h"
 #include "knn/knn.h"
 #include "stages/orient.h"
@@ -138,58 +139,31 @@ done:
 	return st;
 }
 
-typedef struct keyed_point {
-	float x, y, z;
-	uint32_t index;
-} keyed_point;
-
-static int compare_position(const void *pa, const void *pb)
-{
-	const keyed_point *a = pa, *b = pb;
-	if (a->x != b->x)
-		return a->x < b->x ? -1 : 1;
-	if (a->y != b->y)
-		return a->y < b->y ? -1 : 1;
-	if (a->z != b->z)
-		return a->z < b->z ? -1 : 1;
-	return a->index < b->index ? -1 : a->index > b->index;
-}
-
-static int same_position(const keyed_point *a, const keyed_point *b)
-{
-	return a->x == b->x && a->y == b->y && a->z == b->z;
-}
-
 /* Exact duplicates (merged overlapping scans) would crowd the neighbourhoods
  * with copies and leave a point repeated more than k times without any
  * neighbourhood at all, so the work runs on the distinct positions: `distinct`
  * receives them (with normal arrays) and of[i] the distinct point of point i. */
 static dp_status distinct_positions(const dp_cloud *cloud, dp_cloud *distinct, uint32_t *of, dp_error *err)
 {
-	size_t n = cloud->n;
-	keyed_point *key = dp_alloc_array(n, sizeof *key);
-	if (!key)
-		return dp_fail(err, DP_ERR_NOMEM, "normals: out of memory for %zu points", n);
-	for (size_t i = 0; i < n; i++)
-		key[i] = (keyed_point){cloud->x[i], cloud->y[i], cloud->z[i], (uint32_t)i};
-	qsort(key, n, sizeof *key, compare_position);
-	size_t m = 1;
-	for (size_t s = 1; s < n; s++)
-		m += !same_position(&key[s], &key[s - 1]);
-	dp_status st = dp_cloud_alloc(distinct, m, 1, err);
-	if (st == DP_OK) {
-		size_t u = 0;
-		for (size_t s = 0; s < n; s++) {
-			if (s > 0 && !same_position(&key[s], &key[s - 1]))
-				u++;
-			distinct->x[u] = key[s].x;
-			distinct->y[u] = key[s].y;
-			distinct->z[u] = key[s].z;
-			of[key[s].index] = (uint32_t)u;
+	size_t n = cloud->n, m;
+	dp_status st = dp_distinct(n, cloud->x, cloud->y, cloud->z, of, &m, err);
+	if (st == DP_OK)
+		st = dp_cloud_alloc(distinct, m, 1, err);
+	if (st != DP_OK)
+		return st;
+	/* of[i] <= i, so a repeated point's slot is known when it is reached */
+	uint32_t u = 0;
+	for (size_t i = 0; i < n; i++) {
+		if (of[i] != i) {
+			of[i] = of[of[i]];
+			continue;
 		}
+		distinct->x[u] = cloud->x[i];
+		distinct->y[u] = cloud->y[i];
+		distinct->z[u] = cloud->z[i];
+		of[i] = u++;
 	}
-	free(key);
-	return st;
+	return DP_OK;
 }
 
 dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err)

@@ -10,6 +10,7 @@
  * 0.4-0.6 h through 200 iterations while the mean falls steadily. */
 #include "backend/wlop_ops.h"
 #include "core/common.h"
+#include "core/distinct.h"
 #include "knn/knn.h"
 
 #include <math.h>
@@ -65,87 +66,51 @@ static dp_status check_input(const dp_cloud *in, dp_error *err)
 	return DP_OK;
 }
 
-typedef struct pick {
-	float x, y, z;
-	size_t slot; /* index in the output */
-	int dup;     /* repeats the position of another pick: draw again */
-} pick;
-
-static int pick_cmp(const void *pa, const void *pb)
-{
-	const pick *a = pa, *b = pb;
-	if (a->x != b->x)
-		return a->x < b->x ? -1 : 1;
-	if (a->y != b->y)
-		return a->y < b->y ? -1 : 1;
-	if (a->z != b->z)
-		return a->z < b->z ? -1 : 1;
-	return a->slot < b->slot ? -1 : a->slot > b->slot;
-}
-
-/* One more step of a Fisher–Yates shuffle of order[next..n): a fresh index. */
-static size_t draw(size_t *order, size_t *next, size_t n, dp_rng *rng)
-{
-	size_t r = *next + (size_t)(dp_rng_uniform(rng) * (double)(n - *next));
-	size_t j = order[r];
-	order[r] = order[*next];
-	order[(*next)++] = j;
-	return j;
-}
-
 /* m distinct input positions at random: a partial Fisher–Yates shuffle of the
- * indices, continued to replace picks that repeat another's position. Two
+ * indices that passes over points repeating an earlier pick's position. Two
  * samples at one position would skip each other's repulsion (d² < min_d2)
  * and move together for ever, and duplicate points are common in merged
  * scans. */
 static dp_status choose_samples(const dp_cloud *in, size_t m, uint64_t seed, dp_cloud *s, dp_error *err)
 {
-	size_t n = in->n, next = 0;
+	size_t n = in->n, ndistinct, next = 0;
 	size_t *order = dp_alloc_array(n, sizeof *order);
-	pick *picks = dp_alloc_array(m, sizeof *picks);
+	uint32_t *of = dp_alloc_array(n, sizeof *of);
+	unsigned char *taken = calloc(n, 1);
 	dp_status st = DP_OK;
-	if (!order || !picks) {
+	if (!order || !of || !taken) {
 		st = dp_fail(err, DP_ERR_NOMEM, "wlop: out of memory choosing %zu of %zu points", m, n);
+		goto done;
+	}
+	st = dp_distinct(n, in->x, in->y, in->z, of, &ndistinct, err);
+	if (st != DP_OK)
+		goto done;
+	if (ndistinct < m) {
+		st = dp_fail(err, DP_ERR_ARG, "wlop: the input has %zu distinct positions, fewer than %zu samples",
+			     ndistinct, m);
 		goto done;
 	}
 	for (size_t j = 0; j < n; j++)
 		order[j] = j;
 	dp_rng rng;
 	dp_rng_seed(&rng, seed);
-	for (size_t t = 0; t < m; t++) {
-		picks[t].slot = t;
-		picks[t].dup = 1;
-	}
-	for (size_t dups = m; dups;) {
-		for (size_t t = 0; t < m; t++) {
-			if (!picks[t].dup)
-				continue;
-			if (next == n) {
-				st = dp_fail(err, DP_ERR_ARG, "wlop: the input has fewer than %zu distinct positions", m);
-				goto done;
-			}
-			size_t j = draw(order, &next, n, &rng);
-			picks[t].x = in->x[j];
-			picks[t].y = in->y[j];
-			picks[t].z = in->z[j];
-			picks[t].dup = 0;
-		}
-		qsort(picks, m, sizeof *picks, pick_cmp);
-		dups = 0;
-		for (size_t t = 1; t < m; t++)
-			if (picks[t].x == picks[t - 1].x && picks[t].y == picks[t - 1].y && picks[t].z == picks[t - 1].z) {
-				picks[t].dup = 1;
-				dups++;
-			}
-	}
-	for (size_t t = 0; t < m; t++) {
-		s->x[picks[t].slot] = picks[t].x;
-		s->y[picks[t].slot] = picks[t].y;
-		s->z[picks[t].slot] = picks[t].z;
+	for (size_t t = 0; t < m;) {
+		size_t r = next + (size_t)(dp_rng_uniform(&rng) * (double)(n - next));
+		size_t j = order[r];
+		order[r] = order[next];
+		order[next++] = j;
+		if (taken[of[j]])
+			continue;
+		taken[of[j]] = 1;
+		s->x[t] = in->x[j];
+		s->y[t] = in->y[j];
+		s->z[t] = in->z[j];
+		t++;
 	}
 done:
 	free(order);
-	free(picks);
+	free(of);
+	free(taken);
 	return st;
 }
 
