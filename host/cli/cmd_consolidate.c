@@ -117,6 +117,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--slow-fraction", CLI_DOUBLE, &p->sink.slow_fraction,
 		 "a point settles when its step falls below this * first step", NULL, NULL},
 		{"--sink-iters", CLI_INT, &p->sink.max_iters, "sinking iteration cap", NULL, NULL},
+		{"--medial-margin", CLI_DOUBLE, &p->sink.medial_margin_r,
+		 "a sinking point past the medial axis by this much, in r, settles (0 = off)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},
 		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},

@@ -21,6 +21,7 @@ static void json_sink_params(json_writer *w, const dp_sink_params *p)
 	json_num(w, "first_step_r", p->first_step_r);
 	json_num(w, "slow_fraction", p->slow_fraction);
 	json_int(w, "max_iters", p->max_iters);
+	json_num(w, "medial_margin_r", p->medial_margin_r);
 	json_end_object(w);
 }
 
@@ -92,6 +93,7 @@ static void fill_report(json_writer *w, const void *varg)
 	json_object(w, "sink");
 	json_int(w, "iterations", r->sink_stats.iterations);
 	json_int(w, "settled_front", (long long)r->sink_stats.settled_front);
+	json_int(w, "settled_medial", (long long)r->sink_stats.settled_medial);
 	json_int(w, "settled_slow", (long long)r->sink_stats.settled_slow);
 	json_int(w, "unsettled", (long long)r->sink_stats.unsettled);
 	json_num(w, "seconds", r->sink_stats.seconds);

@@ -274,6 +274,12 @@ dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, d
  *     settle_radius_r has n_i·n_i' <= cos ω and its surface point is far,
  *     |p_i - p_i'| > front_factor × settle radius (an opposing front; nearby
  *     surface points would make creases settle at once);
+ *  1b. medial test (not in the paper): q_i settles when some surface point
+ *     is nearer to it than p_i by more than medial_margin_r, i.e. q_i has
+ *     passed the centre of its inscribed ball. Where the far side was never
+ *     scanned no opposing front exists and nothing else stops the sinking
+ *     (measured before this test: one-sided scans of a lamppost and an
+ *     airplane ended with every point unsettled and deep points ~100 r long);
  *  2. step t_i: first_step_r × r in the first iteration, then the mean over the
  *     static neighbourhood P_i (surface points within sigma_p × r, i included)
  *     of the distance each inner point moved in the previous iteration (settled
@@ -301,6 +307,7 @@ typedef struct dp_sink_params {
 	double first_step_r;     /* t of the first iteration, in r; default 0.5 */
 	double slow_fraction;    /* settle when t_i < slow_fraction × first step, in [0, 1); default 0.5 */
 	int max_iters;           /* iteration cap, >= 1; default 200 */
+	double medial_margin_r;  /* medial test margin, in r; 0 = off; default 1 (see below) */
 } dp_sink_params;
 
 void dp_sink_params_default(dp_sink_params *p);
@@ -308,6 +315,7 @@ void dp_sink_params_default(dp_sink_params *p);
 typedef struct dp_sink_stats {
 	int iterations;          /* iterations run */
 	size_t settled_front;    /* settled by the front test */
+	size_t settled_medial;   /* settled by the medial test */
 	size_t settled_slow;     /* settled by slow-down */
 	size_t unsettled;        /* still moving when max_iters stopped the loop */
 	double seconds;
@@ -762,6 +770,36 @@ dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_pa
 		  dp_eval_result *result, dp_error *err);
 /* Prints the result as one JSON object on one line. */
 void dp_eval_json(const dp_eval_result *result, FILE *out);
+
+/* ------------------------------------------------ Fit to a built-in shape */
+/*
+ * Owner: host/tools/shape_fit.c (the end-to-end quality checks of issue 3:
+ * tests/test_pipeline_shapes.c, bench/bench_quality.c). Reentrant, no global
+ * state. Lengths in shape units.
+ */
+typedef struct dp_shape_fit {
+	size_t points;
+	double surface_mean;  /* mean dp_shape_surface_distance of the points */
+	double skeleton_mean; /* mean dp_shape_skeleton_distance of the points */
+	size_t inside;        /* cylinder, slab, torus: points within the half thickness (R, T/2, rho)
+	                         of the ideal skeleton; only these count for spread and largest_gap */
+	double spread;        /* cylinder, torus: fraction of the core curve's length within cell/2 of
+	                         an inside point's position along it; slab: fraction of the W x W
+	                         mid-plane's squares (side about `cell`) holding an inside point;
+	                         NAN for other shapes */
+	double largest_gap;   /* cylinder, torus: longest stretch of the core curve between consecutive
+	                         inside points (torus: cyclic; cylinder: between the first and the
+	                         last), as a fraction of its length; NAN for other shapes */
+} dp_shape_fit;
+
+/*
+ * Measures `points` against `shape` (positions only). `cell` > 0 sets the
+ * resolution of `spread`. Errors: DP_ERR_ARG (invalid shape, cell, or a
+ * non-finite point), DP_ERR_EMPTY (no points), DP_ERR_NOMEM; on error *fit
+ * is zeroed with spread and largest_gap NAN.
+ */
+dp_status dp_shape_fit_points(const dp_shape *shape, const dp_cloud *points, double cell, dp_shape_fit *fit,
+			      dp_error *err);
 
 #ifdef __cplusplus
 }

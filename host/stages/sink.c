@@ -5,6 +5,7 @@
  * neighbour sums are the operators of backend/sink_ops.h. */
 #include "backend/sink_ops.h"
 #include "core/common.h"
+#include "knn/knn.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -20,6 +21,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->first_step_r = 0.5;
 	p->slow_fraction = 0.5;
 	p->max_iters = 200;
+	p->medial_margin_r = 1.0;
 }
 
 static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
@@ -40,6 +42,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 		return dp_fail(err, DP_ERR_ARG, "sink: slow fraction %g is not in [0, 1)", p->slow_fraction);
 	if (p->max_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "sink: max_iters = %d is not >= 1", p->max_iters);
+	if (!(p->medial_margin_r >= 0.0 && isfinite(p->medial_margin_r)))
+		return dp_fail(err, DP_ERR_ARG, "sink: medial margin %g r is not a finite number >= 0 (0 turns the test off)",
+			       p->medial_margin_r);
 	/* Lengths go to the device as floats. */
 	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))
 		return dp_fail(err, DP_ERR_ARG, "sink: radii of r = %g overflow a float", r);
@@ -87,6 +92,10 @@ typedef struct sink_state {
 	uint32_t *list;       /* the unsettled points of the current pass */
 	size_t nlist;
 	dp_grid inner, surface;
+	dp_knn surface_knn;   /* nearest surface point of an inner point (medial test) */
+	uint32_t *nn_who;     /* n each: scratch of the medial test */
+	int *nn_index;
+	float *nn_d2;
 } sink_state;
 
 static void collect_unsettled(sink_state *st)
@@ -147,6 +156,56 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
 	}
 	*settled = st->nlist - kept;
 	st->nlist = kept;
+	return DP_OK;
+}
+
+/* The medial test: an inner point nearer to some surface point than to its
+ * own by more than `margin` has passed the medial axis (the centre of its
+ * inscribed ball), so it settles. Opposing fronts cannot stop points whose
+ * far side was never scanned (a one-sided scan of a pole or a wing): there
+ * nothing settles, the steps never shrink, and measured on such scans the
+ * deep points ended ~100 r long. The scanned sides of the same part still
+ * bound the ball. Distances are exact (FLANN), on the host. */
+static dp_status settle_past_medial(sink_state *st, float margin, size_t *settled, dp_error *err)
+{
+	*settled = 0;
+	if (!(margin > 0.0f))
+		return DP_OK;
+	/* only points deeper than the margin can be past the axis by more */
+	float *qx = st->a[C_OUT_X], *qy = st->a[C_OUT_Y], *qz = st->a[C_OUT_Z], *depth = st->a[C_OUT_W];
+	size_t m = 0;
+	uint32_t *who = st->nn_who;
+	for (size_t j = 0; j < st->nlist; j++) {
+		uint32_t i = st->list[j];
+		float dx = st->q[0][i] - st->s->x[i], dy = st->q[1][i] - st->s->y[i], dz = st->q[2][i] - st->s->z[i];
+		float d = sqrtf(dx * dx + dy * dy + dz * dz);
+		if (d <= margin)
+			continue;
+		qx[m] = st->q[0][i];
+		qy[m] = st->q[1][i];
+		qz[m] = st->q[2][i];
+		depth[m] = d;
+		who[m++] = i;
+	}
+	if (m == 0)
+		return DP_OK;
+	dp_status rc = dp_knn_query(&st->surface_knn, m, qx, qy, qz, 1, st->nn_index, st->nn_d2, err);
+	if (rc != DP_OK)
+		return rc;
+	for (size_t k = 0; k < m; k++) {
+		float limit = depth[k] - margin;
+		if (st->nn_d2[k] < limit * limit) {
+			st->settled[who[k]] = 1;
+			(*settled)++;
+		}
+	}
+	if (*settled) {
+		size_t kept = 0;
+		for (size_t j = 0; j < st->nlist; j++)
+			if (!st->settled[st->list[j]])
+				st->list[kept++] = st->list[j];
+		st->nlist = kept;
+	}
 	return DP_OK;
 }
 
@@ -255,13 +314,22 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 	for (int c = 0; c < 3; c++)
 		dp_grid_gather(&st->surface, nrm[c], st->a[NORM_X_S + c]);
 
+	float medial_margin = (float)(p->medial_margin_r * r);
+	if (medial_margin > 0.0f) {
+		rc = dp_knn_build(&st->surface_knn, st->n, s->x, s->y, s->z, err);
+		if (rc != DP_OK)
+			return rc;
+	}
+
 	size_t settled_total = 0;
 	for (int it = 1; it <= p->max_iters; it++) {
 		collect_unsettled(st);
 		if (st->nlist == 0)
 			break;
-		size_t by_front, by_slow;
+		size_t by_front, by_medial = 0, by_slow;
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, &by_front, err);
+		if (rc == DP_OK)
+			rc = settle_past_medial(st, medial_margin, &by_medial, err);
 		if (rc == DP_OK)
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, &by_slow, err);
 		if (rc == DP_OK)
@@ -270,8 +338,9 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			return rc;
 		stats->iterations = it;
 		stats->settled_front += by_front;
+		stats->settled_medial += by_medial;
 		stats->settled_slow += by_slow;
-		settled_total += by_front + by_slow;
+		settled_total += by_front + by_medial + by_slow;
 		dp_progress(ctx, "sink", it, (double)settled_total);
 	}
 	stats->unsettled = st->n - settled_total;
@@ -313,7 +382,10 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	st.block = dp_alloc_array(st.n, NARRAYS * sizeof(float));
 	st.settled = calloc(st.n, 1);
 	st.list = dp_alloc_array(st.n, sizeof *st.list);
-	if (!st.block || !st.settled || !st.list) {
+	st.nn_who = dp_alloc_array(st.n, sizeof *st.nn_who);
+	st.nn_index = dp_alloc_array(st.n, sizeof *st.nn_index);
+	st.nn_d2 = dp_alloc_array(st.n, sizeof *st.nn_d2);
+	if (!st.block || !st.settled || !st.list || !st.nn_who || !st.nn_index || !st.nn_d2) {
 		rc = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", st.n);
 	} else {
 		for (int k = 0; k < NARRAYS; k++)
@@ -324,6 +396,11 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	free(st.block);
 	free(st.settled);
 	free(st.list);
+	free(st.nn_who);
+	free(st.nn_index);
+	free(st.nn_d2);
+	if (st.surface_knn.index)
+		dp_knn_free(&st.surface_knn);
 	dp_grid_free(&st.inner);
 	dp_grid_free(&st.surface);
 	if (rc != DP_OK) {
