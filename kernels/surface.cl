@@ -39,7 +39,8 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 				__global const float *qnz, __global const float *qlen, GRID_ARGS,
 				__global const float *glen, const float radius, const float r, const float min_d2,
 				const float tfloor, __global float *W_out, __global float *L_out, __global float *var_out,
-				__global float *rx, __global float *ry, __global float *rz, __global float *nn_out)
+				__global float *rx, __global float *ry, __global float *rz, __global float *nn_out,
+				__global float *mx, __global float *my, __global float *mz)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
@@ -49,12 +50,16 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 	float rad2 = radius * radius, inv_r = 1.0f / r;
 	float count = 0.0f, sd = 0.0f, sd2 = 0.0f, st = 0.0f, stl = 0.0f;
 	float sb = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f, nn2 = rad2;
+	float cx = 0.0f, cy = 0.0f, cz = 0.0f;
 	GRID_FOR(px, py, pz, k)
 		float dx = px - gx[k], dy = py - gy[k], dz = pz - gz[k];
 		float d2 = dx * dx + dy * dy + dz * dz;
 		if (d2 < rad2) {
 			float theta = exp(-d2 * inv_r * inv_r);
 			float dl = glen[k] - len;
+			cx -= theta * dx;
+			cy -= theta * dy;
+			cz -= theta * dz;
 			count += 1.0f;
 			sd += dl * inv_r;
 			sd2 += (dl * inv_r) * (dl * inv_r);
@@ -81,6 +86,9 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 	ry[i] = sb > 0.0f ? by / sb : 0.0f;
 	rz[i] = sb > 0.0f ? bz / sb : 0.0f;
 	nn_out[i] = sqrt(nn2);
+	mx[i] = st > 0.0f ? cx / st : 0.0f;
+	my[i] = st > 0.0f ? cy / st : 0.0f;
+	mz[i] = st > 0.0f ? cz / st : 0.0f;
 }
 
 __kernel void surface_covariance(const uint n, __global const float *qx, __global const float *qy,

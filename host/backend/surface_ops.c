@@ -34,7 +34,7 @@ dp_status dp_op_surface_neighbour(dp_context *ctx, const dp_surface_neighbour_ar
 		return DP_OK;
 	}
 	dp_cl_grid_storage gs;
-	dp_cl_arg args[7 + DP_CL_GRID_NARGS + 12];
+	dp_cl_arg args[7 + DP_CL_GRID_NARGS + 15];
 	size_t qbytes = a->nq * sizeof(float);
 	args[0] = DP_CL_IN(a->px, qbytes);
 	args[1] = DP_CL_IN(a->py, qbytes);
@@ -57,6 +57,9 @@ dp_status dp_op_surface_neighbour(dp_context *ctx, const dp_surface_neighbour_ar
 	args[k++] = DP_CL_OUT(a->ry, qbytes);
 	args[k++] = DP_CL_OUT(a->rz, qbytes);
 	args[k++] = DP_CL_OUT(a->nn, qbytes);
+	args[k++] = DP_CL_OUT(a->mx, qbytes);
+	args[k++] = DP_CL_OUT(a->my, qbytes);
+	args[k++] = DP_CL_OUT(a->mz, qbytes);
 	return dp_cl_launch(&ctx->cl, "surface_neighbour", a->nq, args, k, err);
 }
 

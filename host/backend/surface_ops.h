@@ -41,14 +41,16 @@ dp_status dp_op_surface_data(dp_context *ctx, const dp_surface_data_args *a, dp_
  *            β̂ = θ(d) / max(|T_i(p_i - p_k)|/r, tfloor)⁵,  pairs with d² >= min_d2;
  *            0 when there is none. tfloor keeps β̂ finite for a neighbour
  *            straight above or below p_i.
- *   nn[i]  = the smallest d over pairs with d² >= min_d2, radius when none. */
+ *   nn[i]  = the smallest d over pairs with d² >= min_d2, radius when none.
+ *   mem[i] = Σ θ(d) (p_k - p_i) / W[i]: offset of the θ-weighted centroid of
+ *            P_i (the membrane pull of the minimal-volume prior)   every pair */
 typedef struct dp_surface_neighbour_args {
 	const dp_grid *surface;
 	const float *glen;
 	size_t nq;
 	const float *px, *py, *pz, *nx, *ny, *nz, *len;
 	float radius, r, min_d2, tfloor;
-	float *W, *L, *var, *rx, *ry, *rz, *nn;
+	float *W, *L, *var, *rx, *ry, *rz, *nn, *mx, *my, *mz;
 } dp_surface_neighbour_args;
 
 void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a);

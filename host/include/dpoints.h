@@ -425,9 +425,11 @@ dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const 
  *     p_i += [η Σα D_i + g_i] / (γ + η Σα), D_i = n_i n_iᵀ(c̄_i - p_i)
  *     (data_along_normal; else c̄_i - p_i as Eq. 6 is printed),
  *     volume prior (Eq. 8):  g_i = γ (q_i + L_i m_i - p_i) = γ (L_i - ℓ_i) m_i;
- *     minimal prior (Eq. 9): g_i = -γ min(L_i / W_i, ℓ_i) m_i, the gradient of
- *     ½γL_i² through the point's own length, never past q_i (derivation and
- *     measured behaviour in host/stages/surface.c);
+ *     minimal prior (Eq. 9): g_i = γ min(0, (c_i - p_i)·m_i) m_i, c_i the
+ *     θ-weighted centroid of P_i: a membrane that only shortens dpoints, so
+ *     missing regions close flat (Fig. 17) instead of bulging like their
+ *     neighbours (Eq. 9 taken literally contracts every point onto the
+ *     skeleton; measurements in host/stages/surface.c);
  *  5. normal update: n_i = normalize((η_i - 1) ñ_i + m_i), ñ_i the PCA normal
  *     of the new surface points within normal_radius_r r, oriented like n_i.
  * (The paper adds steps 2 and 4 in one update; sliding first has the same

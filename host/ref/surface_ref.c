@@ -48,6 +48,7 @@ void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a)
 		float nx = a->nx[i], ny = a->ny[i], nz = a->nz[i], len = a->len[i];
 		float count = 0.0f, sd = 0.0f, sd2 = 0.0f, st = 0.0f, stl = 0.0f;
 		float sb = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f, nn2 = rad2;
+		float cx = 0.0f, cy = 0.0f, cz = 0.0f;
 		dp_grid_rows(g, px, py, pz, beg, end);
 		for (int row = 0; row < 9; row++)
 			for (uint32_t k = beg[row]; k < end[row]; k++) {
@@ -62,6 +63,9 @@ void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a)
 				sd2 += (dl * inv_r) * (dl * inv_r);
 				st += theta;
 				stl += theta * dl;
+				cx -= theta * dx;
+				cy -= theta * dy;
+				cz -= theta * dz;
 				if (d2 < a->min_d2)
 					continue;
 				nn2 = fminf(nn2, d2);
@@ -82,6 +86,9 @@ void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a)
 		a->ry[i] = sb > 0.0f ? by / sb : 0.0f;
 		a->rz[i] = sb > 0.0f ? bz / sb : 0.0f;
 		a->nn[i] = sqrtf(nn2);
+		a->mx[i] = st > 0.0f ? cx / st : 0.0f;
+		a->my[i] = st > 0.0f ? cy / st : 0.0f;
+		a->mz[i] = st > 0.0f ? cz / st : 0.0f;
 	}
 }
 

@@ -12,26 +12,19 @@
  * shorter dpoint that the length averaging then keeps (measured on a
  * one-sided torus: the unsupported half sank 0.2 ρ towards the core).
  *
- * The minimal-volume prior (Eq. 9), derived. G = ½ Σ_k γ_k L_k² with
- * L_k = Σ_i' θ_ki' ℓ_i' / W_k, ℓ_i = |p_i - q_i|, W_k = Σ_i' θ_ki'. Like the
- * paper's fixed-point iterations we freeze the weights (θ, γ) and take the
- * gradient through the lengths only. p_i enters L_i through its own length
- * with ∂L_i/∂ℓ_i = θ(0)/W_i = 1/W_i, and ∂ℓ_i/∂p_i = m_i, so the point's own
- * term gives ∂(½γ_i L_i²)/∂p_i = γ_i (L_i / W_i) m_i: a pull straight
- * towards q_i. (The neighbours' terms add Σ_k γ_k L_k θ_ki / W_k, the same
- * pull smoothed over P_i; leaving them out keeps the operator count.) Put
- * next to the data term and scaled like the volume prior's step, by
- * 1/(γ + η Σα) — so that without input it is the plain gradient step — the
- * step is
- *   g_i = -γ_i min(L_i / W_i, ℓ_i) m_i,
- * clamped so that p_i never passes its inner end. Unlike the volume prior,
- * whose pull γ(L - ℓ) vanishes on the surface, this pull does not: the data
- * term holds a point only while η Σα exceeds γ L/W (lengths in r). Measured on
- * a complete noisy sphere of radius 21 r (W ≈ 1-2, η Σα ≈ 7-25): the pull wins,
- * 40% of the points leave the data within 2 iterations and all within 10, the
- * whole set contracting onto the skeleton — the minimum of Eq. 9 with only a
- * tangential regulariser. The option is there as the paper defines it; the
- * volume prior is the default. */
+ * The minimal-volume prior (Eq. 9). Taken literally — the gradient of
+ * ½ Σ γ_k L_k² through the point's own length, a pull of γ L_i/W_i straight
+ * towards q_i — it does not vanish on the surface, and measured on a complete
+ * noisy sphere of radius 21 r it beat the data term everywhere: all points
+ * left the data within 10 iterations and the set contracted onto the
+ * skeleton. What the paper shows it doing (Fig. 17) is closing missing regions
+ * flat instead of bulging them out like their neighbours. So the option is
+ * implemented as a membrane: the dpoint may only shorten, towards the depth of
+ * the θ-weighted centroid of P_i, g_i = γ_i min(0, (c_i - p_i)·m_i). Like
+ * Laplacian smoothing it removes volume where the surface bulges; on data the
+ * data term holds the points (the pull is the curvature offset of P_i, a
+ * fraction of r); where there is no input it flattens the closure between
+ * the scanned rims. */
 #include "backend/surface_ops.h"
 #include "core/common.h"
 #include "core/eig3.h"
@@ -64,6 +57,7 @@ void dp_surface_params_default(dp_surface_params *p)
 enum {
 	A_PX, A_PY, A_PZ, A_NX, A_NY, A_NZ, A_QX, A_QY, A_QZ, A_LEN, A_GLEN,
 	A_ETA, A_SA, A_OX, A_OY, A_OZ, A_W, A_L, A_VAR, A_RX, A_RY, A_RZ, A_NN, A_D2, A_TX, A_TY, A_TZ,
+	A_MX, A_MY, A_MZ,
 	A_COUNT
 };
 
@@ -208,8 +202,16 @@ static double settle(work *w, size_t n, double r, const dp_surface_params *p)
 		float pull[3];
 		for (int c = 0; c < 3; c++)
 			pull[c] = p->data_along_normal ? on * nrm[c] : a[A_OX + c][i] - mu * a[A_RX + c][i];
-		float g = p->prior == DP_SURFACE_PRIOR_VOLUME ? gamma * (L - len)
-							      : -gamma * fminf(L / a[A_W][i], len);
+		float g;
+		if (p->prior == DP_SURFACE_PRIOR_VOLUME) {
+			g = gamma * (L - len);
+		} else {
+			/* the centroid offset was measured before the slide, like c̄ */
+			float to_centroid = 0.0f;
+			for (int c = 0; c < 3; c++)
+				to_centroid += (a[A_MX + c][i] - mu * a[A_RX + c][i]) * m[c];
+			g = gamma * fminf(to_centroid, 0.0f);
+		}
 		float inv = 1.0f / (gamma + support);
 		double move2 = 0.0;
 		for (int c = 0; c < 3; c++) {
@@ -333,7 +335,8 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		.surface = &w->surface, .glen = a[A_GLEN], .nq = n, .px = a[A_PX], .py = a[A_PY], .pz = a[A_PZ],
 		.nx = a[A_NX], .ny = a[A_NY], .nz = a[A_NZ], .len = a[A_LEN], .radius = radius, .r = fr,
 		.min_d2 = min_d2, .tfloor = (float)p->tangent_floor_r, .W = a[A_W], .L = a[A_L], .var = a[A_VAR],
-		.rx = a[A_RX], .ry = a[A_RY], .rz = a[A_RZ], .nn = a[A_NN],
+		.rx = a[A_RX], .ry = a[A_RY], .rz = a[A_RZ], .nn = a[A_NN], .mx = a[A_MX], .my = a[A_MY],
+		.mz = a[A_MZ],
 	};
 	dp_surface_covariance_args cov = {
 		.surface = &w->surface, .nq = n, .px = a[A_PX], .py = a[A_PY], .pz = a[A_PZ],
