@@ -55,13 +55,13 @@ int dp_cmd_demo(int argc, char **argv)
 	dp_scan_params sp;
 	dp_scan_params_default(&sp);
 	sp.views = 2;
-	sp.res = 160;
+	sp.res = 256;
 	sp.noise = 0.003;
 	sp.normals = 0;
 	dp_consolidate_job job;
 	memset(&job, 0, sizeof job);
 	dp_params_default(&job.params);
-	job.params.wlop.samples = 3000;
+	job.params.wlop.samples = 4000;
 	job.render = 1;
 	job.save_stages = 1;
 	job.up_axis = 2;
