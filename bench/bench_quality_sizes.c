@@ -11,7 +11,7 @@
  * Lines: {"bench":"quality_sizes","case":...,"samples":...,<measures>,
  * "targets":{name: pass}} per shape case and size; {"bench":"quality_chair",
  * "set":"input|wlop|surface|surface_supported|surface_unsupported",...} for
- * the chair. Lengths: shape cases in the shape's unit (R, T or rho), chair
+ * each chair setup. Lengths: shape cases in the shape's unit (R, T or rho), chair
  * in bbox diagonals of the ground truth.
  */
 #include "dpoints.h"
@@ -35,13 +35,16 @@
 #define CYLINDER_LENGTH_R 10.0
 #define CURVE_CELL 0.5
 #define SLAB_CELL 1.0
-/* The demo chair (host/cli/cmd_demo.c): two views, 160 x 160 rays, noise
- * 0.003, 3000 deep points. A surface point with η > this counts as
- * supported by input (η = 1 + Σθ over the input within σp r; 1 = none). */
-#define CHAIR_SAMPLES 3000
+/* The demo chair (host/cli/cmd_demo.c): two views, noise 0.003; rays and
+ * deep points as the demo first had them and as it has them now. A surface
+ * point with η > SUPPORTED_ETA counts as supported by input (η = 1 + Σθ over
+ * the input within σp r; 1 = none). */
 #define CHAIR_VIEWS 2
-#define CHAIR_RES 160
 #define SUPPORTED_ETA 2.0f
+static const struct {
+	int res;
+	size_t samples;
+} chair_setups[] = {{160, 3000}, {256, 4000}};
 
 typedef struct options {
 	size_t samples[MAX_SIZES];
@@ -181,11 +184,11 @@ out:
 	return rc;
 }
 
-static void chair_line(const char *set, const dp_eval_result *e)
+static void chair_line(size_t samples, const char *set, const dp_eval_result *e)
 {
-	printf("{\"bench\":\"quality_chair\",\"set\":\"%s\",\"points\":%zu,\"accuracy_mean\":%.5f,"
+	printf("{\"bench\":\"quality_chair\",\"samples\":%zu,\"set\":\"%s\",\"points\":%zu,\"accuracy_mean\":%.5f,"
 	       "\"accuracy_p95\":%.5f,\"completeness_mean\":%.5f,\"coverage\":%.4f,\"spacing_cv\":%.4f",
-	       set, e->points, e->accuracy_mean, e->accuracy_p95, e->completeness_mean, e->coverage, e->spacing_cv);
+	       samples, set, e->points, e->accuracy_mean, e->accuracy_p95, e->completeness_mean, e->coverage, e->spacing_cv);
 	if (e->has_normals)
 		printf(",\"normal_angle_deg\":%.3f,\"normal_flipped\":%.4f", e->normal_angle_deg, e->normal_flipped);
 	printf("}\n");
@@ -211,7 +214,7 @@ static dp_status split_by_support(const dp_result *res, int supported, dp_cloud 
 	return DP_OK;
 }
 
-static int run_chair(dp_context *ctx)
+static int run_chair(dp_context *ctx, int res_rays, size_t samples)
 {
 	dp_error err = {0};
 	dp_shape s;
@@ -221,19 +224,19 @@ static int run_chair(dp_context *ctx)
 	dp_scan_params sp;
 	dp_scan_params_default(&sp);
 	sp.views = CHAIR_VIEWS;
-	sp.res = CHAIR_RES;
+	sp.res = res_rays;
 	sp.noise = DEFAULT_NOISE;
 	sp.normals = 0;
 	dp_params p;
 	dp_params_default(&p);
-	p.wlop.samples = CHAIR_SAMPLES;
+	p.wlop.samples = samples;
 	if (dp_shape_default("chair", &s, &err) != DP_OK || dp_shape_mesh(&s, &mesh, &err) != DP_OK ||
 	    dp_scan(&mesh, &sp, &scan, NULL, &err) != DP_OK || dp_consolidate(ctx, &scan, &p, &res, &err) != DP_OK)
 		goto out;
-	printf("{\"bench\":\"quality_chair\",\"raw\":%zu,\"samples\":%zu,\"r\":%.6g,\"iterations\":{\"wlop\":%d,"
+	printf("{\"bench\":\"quality_chair\",\"rays\":%d,\"raw\":%zu,\"samples\":%zu,\"r\":%.6g,\"iterations\":{\"wlop\":%d,"
 	       "\"sink\":%d,\"skeleton\":%d,\"surface\":%d},\"sink_settled\":{\"front\":%zu,\"medial\":%zu,"
 	       "\"slow\":%zu,\"unsettled\":%zu},\"seconds\":%.3f}\n",
-	       scan.n, res.wlop.n, res.r, res.wlop_stats.iterations, res.sink_stats.iterations,
+	       res_rays, scan.n, res.wlop.n, res.r, res.wlop_stats.iterations, res.sink_stats.iterations,
 	       res.skeleton_stats.iterations, res.surface_stats.iterations, res.sink_stats.settled_front,
 	       res.sink_stats.settled_medial, res.sink_stats.settled_slow, res.sink_stats.unsettled,
 	       res.seconds_total);
@@ -247,7 +250,7 @@ static int run_chair(dp_context *ctx)
 			continue;
 		if (dp_eval(&mesh, sets[i], NULL, &e, &err) != DP_OK)
 			goto out;
-		chair_line(names[i], &e);
+		chair_line(samples, names[i], &e);
 	}
 	rc = 0;
 out:
@@ -333,8 +336,8 @@ int main(int argc, char **argv)
 			rc |= run_case(ctx, (case_kind)k, o.samples[i], &o);
 			fflush(stdout);
 		}
-	if (o.chair)
-		rc |= run_chair(ctx);
+	for (size_t i = 0; o.chair && i < sizeof chair_setups / sizeof chair_setups[0]; i++)
+		rc |= run_chair(ctx, chair_setups[i].res, chair_setups[i].samples);
 	dp_context_free(ctx);
 	return rc ? 1 : 0;
 }
