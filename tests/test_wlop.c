@@ -23,6 +23,7 @@
 #define SPHERE_M 2100
 #define SPHERE_MAX_RADIAL_STD 0.005
 #define SPHERE_MAX_SPACING_CV 0.25
+#define SPHERE_MIN_OUTWARD 0.99
 
 static void noisy_sphere(dp_cloud *c, size_t n, double noise, uint64_t seed)
 {
@@ -235,6 +236,14 @@ static void test_sphere_20k(void **state)
 	assert_true(st.converged);
 	assert_true(radial_std < SPHERE_MAX_RADIAL_STD);
 	assert_true(cv < SPHERE_MAX_SPACING_CV);
+
+	/* the stage's output with its oriented normals, as `dpoints wlop` writes it */
+	assert_int_equal(dp_estimate_normals(&out, NULL, &err), DP_OK);
+	size_t outward = 0;
+	for (size_t i = 0; i < out.n; i++)
+		outward += out.nx[i] * out.x[i] + out.ny[i] * out.y[i] + out.nz[i] * out.z[i] > 0.0f;
+	printf("sphere_20k -> %d: %.4f of the normals point outwards\n", SPHERE_M, (double)outward / (double)out.n);
+	assert_true((double)outward >= SPHERE_MIN_OUTWARD * (double)out.n);
 	free(idx);
 	free(d2);
 	dp_knn_free(&knn);
