@@ -156,9 +156,13 @@ dp_status dp_cl_launch(dp_cl *cl, const char *name, size_t n, const dp_cl_arg *a
 			      "clEnqueueReadBuffer");
 	CHECK(clFinish(cl->queue), "clFinish (kernel execution)");
 cleanup:
-	if (st != DP_OK && err)
-		snprintf(err->message + strlen(err->message), sizeof err->message - strlen(err->message),
-			 " (kernel %s, %zu items)", name, n);
+	if (st != DP_OK) {
+		/* commands already queued may still use the buffers released below */
+		clFinish(cl->queue);
+		if (err)
+			snprintf(err->message + strlen(err->message), sizeof err->message - strlen(err->message),
+				 " (kernel %s, %zu items)", name, n);
+	}
 	for (size_t a = 0; a < nargs; a++)
 		if (mems[a])
 			clReleaseMemObject(mems[a]);
