@@ -79,7 +79,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	memset(&job, 0, sizeof job);
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
-	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight;
+	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
 	job.up_axis = 1;
 	double sigma_p = job.params.sink.sigma_p;
 	dp_params *p = &job.params;
@@ -128,6 +128,12 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--min-axis-weight", CLI_DOUBLE, &p->skeleton.min_axis_weight,
 		 "skeleton repulsion ignores axes of smaller weight", NULL, NULL},
 		{"--skeleton-iters", CLI_INT, &p->skeleton.max_iters, "skeleton iteration cap", NULL, NULL},
+		{"--skeleton-window", CLI_INT, &p->skeleton.window,
+		 "skeleton stops when the mean move fell less than min-drop over this many iterations", NULL, NULL},
+		{"--skeleton-min-drop", CLI_DOUBLE, &p->skeleton.min_drop, "required relative fall of the mean move",
+		 NULL, NULL},
+		{"--skeleton-min-move", CLI_DOUBLE, &p->skeleton.min_move_r,
+		 "skeleton also stops when the mean move is below this, in r", NULL, NULL},
 		{"--mu-hat", CLI_DOUBLE, &p->surface.mu_hat, "surface tangential repulsion mu-hat", NULL, NULL},
 		{"--prior", CLI_CHOICE, &prior, "surface shape prior (Eq. 8 or Eq. 9)", "volume|minimal", NULL},
 		{"--normal-radius", CLI_DOUBLE, &p->surface.normal_radius_r, "surface PCA normal radius, in r", NULL,
@@ -136,6 +142,17 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--reattach-radius", CLI_DOUBLE, &p->surface.reattach_radius_r, "re-attachment search radius, in r",
 		 NULL, NULL},
 		{"--surface-iters", CLI_INT, &p->surface.max_iters, "surface iteration cap", NULL, NULL},
+		{"--surface-window", CLI_INT, &p->surface.window,
+		 "surface stops when over this many iterations the mean move and the area per point stalled", NULL,
+		 NULL},
+		{"--surface-min-drop", CLI_DOUBLE, &p->surface.min_drop, "required relative fall of the mean move",
+		 NULL, NULL},
+		{"--surface-min-growth", CLI_DOUBLE, &p->surface.min_growth,
+		 "required relative growth of the area per point", NULL, NULL},
+		{"--tangent-floor", CLI_DOUBLE, &p->surface.tangent_floor_r,
+		 "smallest tangential distance in the repulsion weight, in r", NULL, NULL},
+		{"--data-term", CLI_CHOICE, &data_term,
+		 "surface data term along the normal (DESIGN 4.3) or as Eq. 6 is printed", "normal|full", NULL},
 		CLI_BACKEND_OPTS(backend, device),
 		{"--save-stages", CLI_FLAG, &job.save_stages, "also write wlop.ply and anchors.ply", NULL, NULL},
 		{"--render", CLI_FLAG, &job.render, "also render input, skeleton, surface and deep points to PNGs",
@@ -158,6 +175,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->sink.sigma_p = p->surface.sigma_p = sigma_p;
 	p->surface.prior = (dp_surface_prior)prior;
 	p->surface.reattach = !no_reattach;
+	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
 	struct stat sb;
 	int outdir_existed = stat(outdir, &sb) == 0;

@@ -47,6 +47,7 @@ static void json_surface_params(json_writer *w, const dp_surface_params *p)
 	json_num(w, "mu_hat", p->mu_hat);
 	json_str(w, "prior", p->prior == DP_SURFACE_PRIOR_MINIMAL ? "minimal" : "volume");
 	json_num(w, "tangent_floor_r", p->tangent_floor_r);
+	json_str(w, "data_term", p->data_along_normal ? "normal" : "full");
 	json_num(w, "normal_radius_r", p->normal_radius_r);
 	json_bool(w, "reattach", p->reattach);
 	json_num(w, "reattach_radius_r", p->reattach_radius_r);
