@@ -299,6 +299,15 @@ static void test_rebuild_reuses_and_caps(void **state)
 	assert_int_equal(dp_grid_build(&g, 0, x, y, z, 1.0f, &err), DP_OK);
 	assert_int_equal(g.n, 0);
 	assert_int_equal(dp_grid_build(&g, 2, x, y, z, -1.0f, &err), DP_ERR_ARG);
+	/* finite coordinates whose float difference overflows: the cell grows to
+	 * fit (it used to grow for ever) and both points are bucketed */
+	float fx[2] = {-3e38f, 3e38f}, fy[2] = {0.0f, 0.0f}, fz[2] = {0.0f, 0.0f};
+	assert_int_equal(dp_grid_build(&g, 2, fx, fy, fz, 1.0f, &err), DP_OK);
+	assert_true(isfinite(g.cell) && g.ncells <= DP_GRID_MAX_CELLS);
+	uint32_t total = 0;
+	for (uint32_t c = 0; c < g.ncells; c++)
+		total += g.cell_count[c];
+	assert_int_equal(total, 2);
 	dp_grid_free(&g);
 }
 

@@ -79,19 +79,30 @@ dp_status dp_grid_build_margin(dp_grid *g, size_t n, const float *x, const float
 	double cap = fmin((double)DP_GRID_MAX_CELLS,
 			  fmax(fmax((double)DP_GRID_MIN_CELLS, side * side * side),
 			       (double)DP_GRID_CELLS_PER_POINT * (double)n));
+	/* Spans in double: finite float coordinates far apart (±3e38) overflow a
+	 * float difference, and the growth would then never end. */
+	double span[3];
+	for (int a = 0; a < 3; a++)
+		span[a] = (double)hi[a] - (double)lo[a];
 	for (;;) {
 		double cells = 1.0;
 		for (int a = 0; a < 3; a++)
-			cells *= floor((double)(hi[a] - lo[a]) / cell) + 1.0 + 2.0 * margin;
+			cells *= floor(span[a] / cell) + 1.0 + 2.0 * margin;
 		if (cells <= cap)
 			break;
 		cell *= 1.25f;
+		if (!isfinite(cell))
+			break;
 	}
+	for (int a = 0; a < 3; a++)
+		if (!isfinite(cell) || !isfinite(lo[a] - (float)margin * cell) || !isfinite(hi[a] + (float)margin * cell))
+			return dp_fail(err, DP_ERR_ARG, "grid: coordinates spanning %g are too far apart for float cells",
+				       span[a]);
 	g->cell = cell;
 	g->margin = margin;
 	g->ncells = 1;
 	for (int a = 0; a < 3; a++) {
-		g->dim[a] = (int)floorf((hi[a] - lo[a]) / cell) + 1 + 2 * margin;
+		g->dim[a] = (int)floor(span[a] / cell) + 1 + 2 * margin;
 		g->origin[a] = lo[a] - (float)margin * cell;
 		g->ncells *= (uint32_t)g->dim[a];
 	}
