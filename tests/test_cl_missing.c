@@ -3,6 +3,9 @@
  * loader reads its vendor folder once per process. */
 #include "testkit.h"
 
+#include "files.h"
+
+#include <stdio.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -24,9 +27,13 @@ static void test_no_platform(void **state)
 int main(void)
 {
 	/* the loader then finds no vendor file: no platform at all */
-	setenv("OCL_ICD_VENDORS", tk_temp_dir(), 1);
+	char vendors[64];
+	snprintf(vendors, sizeof vendors, "%s", tk_temp_dir());
+	setenv("OCL_ICD_VENDORS", vendors, 1);
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_no_platform),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	int rc = cmocka_run_group_tests(tests, NULL, NULL);
+	tk_remove_dir(vendors);
+	return rc;
 }

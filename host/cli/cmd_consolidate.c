@@ -50,24 +50,26 @@ fail:
 }
 
 /* OUTDIR/<input name without folder and extension>, made unique in the batch. */
-static void batch_dir(char *out, size_t cap, const char *outdir, const char *input, size_t index,
-		      const char *const *inputs)
+/* OUTDIR/<input name without folder and extension>, with -N (N its position
+ * in the batch, then more while taken) when an earlier input already has that
+ * folder. names[0..index) are the folders given out so far. */
+static char *batch_dir(const char *outdir, const char *input, size_t index, char *const *names)
 {
 	const char *base = strrchr(input, '/');
 	base = base ? base + 1 : input;
 	const char *dot = strrchr(base, '.');
 	int len = dot && dot != base ? (int)(dot - base) : (int)strlen(base);
-	int clash = 0;
-	for (size_t j = 0; j < index; j++) {
-		const char *b = strrchr(inputs[j], '/');
-		b = b ? b + 1 : inputs[j];
-		if (strncmp(b, base, (size_t)len) == 0 && (b[len] == '.' || b[len] == '\0'))
-			clash = 1;
+	char dir[4096];
+	snprintf(dir, sizeof dir, "%s/%.*s", outdir, len, base);
+	for (size_t suffix = index + 1;; suffix++) {
+		size_t j = 0;
+		while (j < index && strcmp(names[j], dir) != 0)
+			j++;
+		if (j == index)
+			break;
+		snprintf(dir, sizeof dir, "%s/%.*s-%zu", outdir, len, base, suffix);
 	}
-	if (clash)
-		snprintf(out, cap, "%s/%.*s-%zu", outdir, len, base, index + 1);
-	else
-		snprintf(out, cap, "%s/%.*s", outdir, len, base);
+	return strdup(dir);
 }
 
 #define MAX_INPUTS 4096
@@ -143,12 +145,12 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 NULL, NULL},
 		{"--surface-iters", CLI_INT, &p->surface.max_iters, "surface iteration cap", NULL, NULL},
 		{"--surface-window", CLI_INT, &p->surface.window,
-		 "surface stops when over this many iterations the mean move and the area per point stalled", NULL,
+		 "surface stops when over this many iterations the mean move and the mean spacing stalled", NULL,
 		 NULL},
 		{"--surface-min-drop", CLI_DOUBLE, &p->surface.min_drop, "required relative fall of the mean move",
 		 NULL, NULL},
 		{"--surface-min-growth", CLI_DOUBLE, &p->surface.min_growth,
-		 "required relative growth of the area per point", NULL, NULL},
+		 "required relative growth of the mean spacing", NULL, NULL},
 		{"--tangent-floor", CLI_DOUBLE, &p->surface.tangent_floor_r,
 		 "smallest tangential distance in the repulsion weight, in r", NULL, NULL},
 		{"--data-term", CLI_CHOICE, &data_term,
@@ -196,17 +198,22 @@ int dp_cmd_consolidate(int argc, char **argv)
 	size_t failed = 0;
 	int first_failure = 0;
 	dp_consolidate_summary *summary = calloc(ninputs, sizeof *summary);
-	if (!summary) {
+	char **dirs = calloc(ninputs, sizeof *dirs);
+	if (!summary || !dirs) {
+		free(summary);
+		free(dirs);
 		dp_context_free(ctx);
 		fprintf(stderr, "dpoints %s: out of memory\n", cmd);
 		return DP_EXIT_NOMEM;
 	}
 	for (size_t i = 0; i < ninputs; i++) {
-		char dir[4096];
-		if (ninputs == 1)
-			snprintf(dir, sizeof dir, "%s", outdir);
-		else
-			batch_dir(dir, sizeof dir, outdir, inputs[i], i, inputs);
+		dirs[i] = ninputs == 1 ? strdup(outdir) : batch_dir(outdir, inputs[i], i, dirs);
+		if (!dirs[i]) {
+			fprintf(stderr, "dpoints %s: out of memory\n", cmd);
+			first_failure = DP_EXIT_NOMEM;
+			break;
+		}
+		const char *dir = dirs[i];
 		if (!quiet && ninputs > 1)
 			fprintf(stderr, "[%zu/%zu] %s\n", i + 1, ninputs, inputs[i]);
 		int r = dp_cli_consolidate_one(cmd, ctx, &job, inputs[i], dir, &summary[i]);
@@ -219,6 +226,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 	if (ninputs > 1)
 		dp_cli_print_batch_summary(stdout, inputs, summary, ninputs);
 	free(summary);
+	for (size_t i = 0; i < ninputs; i++)
+		free(dirs[i]);
+	free(dirs);
 	dp_context_free(ctx);
 	if (failed && ninputs > 1)
 		fprintf(stderr, "dpoints %s: %zu of %zu inputs failed\n", cmd, failed, ninputs);

@@ -50,7 +50,7 @@ static int set_value(const char *cmd, const cli_opt *o, const char *v)
 		return 0;
 	case CLI_SIZE: {
 		unsigned long long x = strtoull(v, &end, 10);
-		if (errno || end == v || *end || x == 0 || v[0] == '-' || x > SIZE_MAX)
+		if (errno || end == v || *end || x == 0 || strchr(v, '-') || x > SIZE_MAX)
 			return bad_value(cmd, o->name, v, "a positive integer");
 		*(size_t *)o->target = (size_t)x;
 		return 0;
@@ -64,7 +64,7 @@ static int set_value(const char *cmd, const cli_opt *o, const char *v)
 	}
 	case CLI_U64: {
 		unsigned long long x = strtoull(v, &end, 10);
-		if (errno || end == v || *end || v[0] == '-')
+		if (errno || end == v || *end || strchr(v, '-'))
 			return bad_value(cmd, o->name, v, "a non-negative integer");
 		*(uint64_t *)o->target = (uint64_t)x;
 		return 0;

@@ -73,7 +73,8 @@ dp_status dp_cloud_alloc(dp_cloud *cloud, size_t n, int with_normals, dp_error *
 dp_status dp_cloud_add_normals(dp_cloud *cloud, dp_error *err);
 /* Frees every array and zeroes the struct. NULL and zeroed structs are fine. */
 void dp_cloud_free(dp_cloud *cloud);
-/* Deep copy. */
+/* Deep copy of src (faces included) into dst, which is overwritten, not freed
+ * first, and must not be src. DP_ERR_NOMEM; dst is zeroed on error. */
 dp_status dp_cloud_copy(dp_cloud *dst, const dp_cloud *src, dp_error *err);
 
 /* ---------------------------------------------------------------- file I/O */
@@ -307,7 +308,7 @@ typedef struct dp_sink_params {
 	double first_step_r;     /* t of the first iteration, in r; default 0.5 */
 	double slow_fraction;    /* settle when t_i < slow_fraction × first step, in [0, 1); default 0.5 */
 	int max_iters;           /* iteration cap, >= 1; default 200 */
-	double medial_margin_r;  /* medial test margin, in r; 0 = off; default 1 (see below) */
+	double medial_margin_r;  /* medial test margin, in r; 0 = off; default 1 (see 1b above) */
 } dp_sink_params;
 
 void dp_sink_params_default(dp_sink_params *p);
@@ -498,7 +499,8 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 
 /* --------------------------------------------------------------- pipeline */
 
-/* Every parameter of the whole pipeline, each with the paper's default. */
+/* Every parameter of the whole pipeline. Defaults are the paper's where it works as printed, else
+ * the measured choice documented beside each field. */
 typedef struct dp_params {
 	dp_wlop_params wlop;
 	dp_normal_params normals;
@@ -776,7 +778,7 @@ void dp_eval_json(const dp_eval_result *result, FILE *out);
 /* ------------------------------------------------ Fit to a built-in shape */
 /*
  * Owner: host/tools/shape_fit.c (the end-to-end quality checks of issue 3:
- * tests/test_pipeline_shapes.c, bench/bench_quality.c). Reentrant, no global
+ * tests/test_pipeline_shapes.c, bench/bench_quality_sizes.c). Reentrant, no global
  * state. Lengths in shape units.
  */
 typedef struct dp_shape_fit {

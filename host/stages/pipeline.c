@@ -45,6 +45,8 @@ static dp_status in_stage(dp_error *err, dp_status st, const char *stage)
 dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params *params, dp_result *res,
 			 dp_error *err)
 {
+	if (!ctx || !input || !res)
+		return dp_fail(err, DP_ERR_ARG, "consolidate: NULL context, input or result");
 	dp_params defaults;
 	if (!params) {
 		dp_params_default(&defaults);
@@ -65,12 +67,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	if (st != DP_OK)
 		goto fail_normals;
 	st = dp_mean_spacing(res->wlop.n, res->wlop.x, res->wlop.y, res->wlop.z, &res->r, err);
-	if (st != DP_OK)
-		goto fail_normals;
-	if (!(res->r > 0.0)) {
-		st = dp_fail(err, DP_ERR_EMPTY, "the %zu WLOP samples coincide: no spacing r to work in",
-			     res->wlop.n);
-		goto fail_normals;
+	if (st == DP_OK && !(res->r > 0.0))
+		st = dp_fail(err, DP_ERR_EMPTY, "%zu WLOP sample%s: no spacing r to work in", res->wlop.n,
+			     res->wlop.n == 1 ? "" : "s that coincide");
+	if (st != DP_OK) {
+		in_stage(err, st, "spacing r");
+		goto fail;
 	}
 
 	st = dp_sink(ctx, &res->wlop, res->r, &params->sink, &res->anchors, &res->sink_stats, err);

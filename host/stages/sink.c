@@ -121,7 +121,7 @@ static void compact_surface(const sink_state *st)
 	compact(st, nrm, C_NX);
 }
 
-/* Settle test of every unsettled point; returns how many settled. */
+/* Settle test of every unsettled point; *settled receives how many settled. */
 static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, float far_d2, float cos_w,
 				 size_t *settled, dp_error *err)
 {
@@ -352,6 +352,8 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 {
 	if (!anchors)
 		return dp_fail(err, DP_ERR_ARG, "sink: no output cloud");
+	if (anchors == surface)
+		return dp_fail(err, DP_ERR_ARG, "sink: the output cloud must not be the surface");
 	memset(anchors, 0, sizeof *anchors);
 	if (!ctx || !surface)
 		return dp_fail(err, DP_ERR_ARG, "sink: no context or no surface points");

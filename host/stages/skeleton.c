@@ -304,6 +304,8 @@ dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const 
 {
 	if (!ctx || !skeleton)
 		return dp_fail(err, DP_ERR_ARG, "skeleton: no context or no output cloud");
+	if (skeleton == anchors)
+		return dp_fail(err, DP_ERR_ARG, "skeleton: the output cloud must not be the anchors");
 	double t0 = dp_seconds(), pairs0 = ctx->pair_evaluations;
 	dp_skeleton_params defaults;
 	if (!params) {
@@ -336,6 +338,7 @@ dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const 
 			break;
 		}
 		done = converged(w.moves, t, params);
+		dp_progress(ctx, "skeleton", t + 1, w.moves[t]);
 	}
 	if (st == DP_OK && stats) {
 		stats->iterations = t;

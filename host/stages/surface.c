@@ -119,7 +119,10 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 		return dp_fail(err, DP_ERR_EMPTY, "surface: no samples");
 	if (input->n == 0)
 		return dp_fail(err, DP_ERR_EMPTY, "surface: the input holds no points");
-	if (!samples->nx)
+	if (!input->x || !input->y || !input->z || !samples->x || !samples->y || !samples->z || !skeleton->x ||
+	    !skeleton->y || !skeleton->z)
+		return dp_fail(err, DP_ERR_ARG, "surface: a cloud has no position arrays");
+	if (!samples->nx || !samples->ny || !samples->nz)
 		return dp_fail(err, DP_ERR_ARG, "surface: the samples have no normals");
 	if (skeleton->n != samples->n)
 		return dp_fail(err, DP_ERR_ARG, "surface: %zu skeleton points for %zu samples", skeleton->n,

@@ -271,6 +271,8 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 	memset(stats, 0, sizeof *stats);
 	if (!ctx || !input || !samples)
 		return dp_fail(err, DP_ERR_ARG, "wlop: NULL context, input or output");
+	if (samples == input)
+		return dp_fail(err, DP_ERR_ARG, "wlop: the output cloud must not be the input");
 	memset(samples, 0, sizeof *samples);
 	dp_status st = check_params(params, err);
 	if (st == DP_OK)
