@@ -38,7 +38,7 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 				__global const float *qz, __global const float *qnx, __global const float *qny,
 				__global const float *qnz, __global const float *qlen, GRID_ARGS,
 				__global const float *glen, const float radius, const float r, const float min_d2,
-				const float tfloor, __global float *W_out, __global float *L_out, __global float *var_out,
+				const float tfloor, __global float *L_out, __global float *var_out,
 				__global float *rx, __global float *ry, __global float *rz, __global float *nn_out,
 				__global float *mx, __global float *my, __global float *mz)
 {
@@ -79,7 +79,6 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 		}
 	GRID_FOR_END
 	float mean = count > 0.0f ? sd / count : 0.0f;
-	W_out[i] = st;
 	L_out[i] = st > 0.0f ? len + stl / st : len;
 	var_out[i] = count > 0.0f ? fmax(sd2 / count - mean * mean, 0.0f) : 0.0f;
 	rx[i] = sb > 0.0f ? bx / sb : 0.0f;

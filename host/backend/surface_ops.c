@@ -50,7 +50,6 @@ dp_status dp_op_surface_neighbour(dp_context *ctx, const dp_surface_neighbour_ar
 	args[k++] = DP_CL_VALUE(a->r);
 	args[k++] = DP_CL_VALUE(a->min_d2);
 	args[k++] = DP_CL_VALUE(a->tfloor);
-	args[k++] = DP_CL_OUT(a->W, qbytes);
 	args[k++] = DP_CL_OUT(a->L, qbytes);
 	args[k++] = DP_CL_OUT(a->var, qbytes);
 	args[k++] = DP_CL_OUT(a->rx, qbytes);

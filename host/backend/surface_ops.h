@@ -33,8 +33,7 @@ dp_status dp_op_surface_data(dp_context *ctx, const dp_surface_data_args *a, dp_
 /* The surface neighbourhood P_i. For each query p_i with unit normal n_i and
  * dpoint length len_i, over the surface points p_k of the grid (dpoint
  * lengths glen[k], sorted order) with d = |p_i - p_k| < radius:
- *   W[i]   = Σ θ(d)                                    every pair (P_i holds p_i)
- *   L[i]   = Σ θ(d) glen_k / W[i]                      every pair
+ *   L[i]   = Σ θ(d) glen_k / Σ θ(d)                     every pair (P_i holds p_i)
  *   var[i] = variance of {glen_k / r} over the same pairs (unweighted, in r²;
  *            summed as differences to len_i so the float sums stay exact)
  *   rep[i] = Σ β̂ T_i(p_i - p_k) / Σ β̂, T_i = I - n_i n_iᵀ,
@@ -42,7 +41,7 @@ dp_status dp_op_surface_data(dp_context *ctx, const dp_surface_data_args *a, dp_
  *            0 when there is none. tfloor keeps β̂ finite for a neighbour
  *            straight above or below p_i.
  *   nn[i]  = the smallest d over pairs with d² >= min_d2, radius when none.
- *   mem[i] = Σ θ(d) (p_k - p_i) / W[i]: offset of the θ-weighted centroid of
+ *   mem[i] = Σ θ(d) (p_k - p_i) / Σ θ(d): offset of the θ-weighted centroid of
  *            P_i (the membrane pull of the minimal-volume prior)   every pair */
 typedef struct dp_surface_neighbour_args {
 	const dp_grid *surface;
@@ -50,7 +49,7 @@ typedef struct dp_surface_neighbour_args {
 	size_t nq;
 	const float *px, *py, *pz, *nx, *ny, *nz, *len;
 	float radius, r, min_d2, tfloor;
-	float *W, *L, *var, *rx, *ry, *rz, *nn, *mx, *my, *mz;
+	float *L, *var, *rx, *ry, *rz, *nn, *mx, *my, *mz;
 } dp_surface_neighbour_args;
 
 void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a);

@@ -79,7 +79,6 @@ void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a)
 				bz += beta * tz;
 			}
 		float mean = count > 0.0f ? sd / count : 0.0f;
-		a->W[i] = st;
 		a->L[i] = st > 0.0f ? len + stl / st : len;
 		a->var[i] = count > 0.0f ? fmaxf(sd2 / count - mean * mean, 0.0f) : 0.0f;
 		a->rx[i] = sb > 0.0f ? bx / sb : 0.0f;

@@ -56,7 +56,7 @@ void dp_surface_params_default(dp_surface_params *p)
 /* Working arrays, one allocation each, reused by every iteration. */
 enum {
 	A_PX, A_PY, A_PZ, A_NX, A_NY, A_NZ, A_QX, A_QY, A_QZ, A_LEN, A_GLEN,
-	A_ETA, A_SA, A_OX, A_OY, A_OZ, A_W, A_L, A_VAR, A_RX, A_RY, A_RZ, A_NN, A_D2, A_TX, A_TY, A_TZ,
+	A_ETA, A_SA, A_OX, A_OY, A_OZ, A_L, A_VAR, A_RX, A_RY, A_RZ, A_NN, A_D2, A_TX, A_TY, A_TZ,
 	A_MX, A_MY, A_MZ,
 	A_COUNT
 };
@@ -337,7 +337,7 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	dp_surface_neighbour_args nb = {
 		.surface = &w->surface, .glen = a[A_GLEN], .nq = n, .px = a[A_PX], .py = a[A_PY], .pz = a[A_PZ],
 		.nx = a[A_NX], .ny = a[A_NY], .nz = a[A_NZ], .len = a[A_LEN], .radius = radius, .r = fr,
-		.min_d2 = min_d2, .tfloor = (float)p->tangent_floor_r, .W = a[A_W], .L = a[A_L], .var = a[A_VAR],
+		.min_d2 = min_d2, .tfloor = (float)p->tangent_floor_r, .L = a[A_L], .var = a[A_VAR],
 		.rx = a[A_RX], .ry = a[A_RY], .rz = a[A_RZ], .nn = a[A_NN], .mx = a[A_MX], .my = a[A_MY],
 		.mz = a[A_MZ],
 	};
