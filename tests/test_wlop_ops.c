@@ -1,4 +1,5 @@
-/* Every WLOP kernel equals its scalar reference (kernels/wlop.cl vs host/ref/wlop_ref.c). */
+/* Every WLOP kernel equals its scalar reference: wlop_density, wlop_attraction and wlop_repulsion
+ * (kernels/wlop.cl) against host/ref/wlop_ref.c. */
 #include "testkit.h"
 
 #include "backend/wlop_ops.h"
@@ -98,7 +99,7 @@ static void test_density(void **state)
 		a.out = cl;
 		if (dp_op_density(tk_cl_context(), &a, &err) != DP_OK)
 			fail_msg("%s", err.message);
-		tk_assert_close(cl, ref, f->m, RTOL, 1e-5f, "density");
+		tk_assert_close(cl, ref, f->m, RTOL, 1e-5f, "wlop_density");
 	}
 	free(ref);
 	free(cl);
@@ -130,7 +131,7 @@ static void test_attraction(void **state)
 		if (dp_op_attraction(tk_cl_context(), &a, &err) != DP_OK)
 			fail_msg("%s", err.message);
 		assert_offsets_close((const float **)cl, (const float **)ref, f->m, f->h,
-				     variant ? "attraction (gaussian)" : "attraction (L1)");
+				     variant ? "wlop_attraction (gaussian)" : "wlop_attraction (L1)");
 		/* Coincident queries must have skipped their own point, not
 		 * summed an infinite weight. */
 		for (size_t i = 0; i < COINCIDENT_QUERIES; i++)
@@ -163,7 +164,7 @@ static void test_repulsion(void **state)
 	a.out_w = cl[3];
 	if (dp_op_repulsion(tk_cl_context(), &a, &err) != DP_OK)
 		fail_msg("%s", err.message);
-	assert_offsets_close((const float **)cl, (const float **)ref, g->n, f->h, "repulsion");
+	assert_offsets_close((const float **)cl, (const float **)ref, g->n, f->h, "wlop_repulsion");
 	for (size_t i = 0; i < g->n; i++)
 		assert_true(isfinite(cl[3][i]));
 	free(buf);
