@@ -436,10 +436,13 @@ dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const 
  * (The paper adds steps 2 and 4 in one update; sliding first has the same
  * fixed points and avoids an outward drift of unsupported regions.)
  * Stops when, over the last `window` iterations against the `window` before,
- * the mean move has not fallen by min_drop and the mean nearest-neighbour
+ * the mean move has not fallen by min_drop, the mean nearest-neighbour
  * spacing of P (the area per point grows with its square while points spread
- * into missing regions) has not grown by min_growth; otherwise after
- * max_iters (stats->converged = 0).
+ * into missing regions) has not grown by min_growth, and the spacing's
+ * coefficient of variation has not fallen by min_growth either (points still
+ * evening out into a sparse completed region: measured on a one-view sphere
+ * at 3000 deep points, stopping on the spacing alone ended at 0.83 coverage,
+ * with this at 0.91); otherwise after max_iters (stats->converged = 0).
  */
 typedef enum dp_surface_prior {
 	DP_SURFACE_PRIOR_VOLUME = 0,  /* volume preserving, Eq. 8 (default) */
@@ -458,7 +461,8 @@ typedef struct dp_surface_params {
 	int max_iters;            /* iteration cap, >= 0; default 200 */
 	int window;               /* iterations per compared block, >= 1; default 10 */
 	double min_drop;          /* relative fall of the mean move that keeps it going, in [0, 1); default 0.05 */
-	double min_growth;        /* relative growth of the spacing that keeps it going, >= 0; default 0.005 */
+	double min_growth;        /* relative growth of the spacing, or fall of its variation, that keeps it
+	                             going, >= 0; default 0.005 */
 } dp_surface_params;
 
 void dp_surface_params_default(dp_surface_params *p);

@@ -66,6 +66,7 @@ typedef struct work {
 	float *cov;
 	int32_t *best;
 	double *move, *spacing; /* per iteration (in r), for the stopping test */
+	double *cv;             /* per iteration: variation of the NN spacing (std / mean) */
 	dp_grid input, surface, skeleton;
 } work;
 
@@ -77,6 +78,7 @@ static void work_free(work *w)
 	free(w->best);
 	free(w->move);
 	free(w->spacing);
+	free(w->cv);
 	dp_grid_free(&w->input);
 	dp_grid_free(&w->surface);
 	dp_grid_free(&w->skeleton);
@@ -92,6 +94,7 @@ static dp_status work_alloc(work *w, size_t n, int max_iters, dp_error *err)
 	ok &= (w->best = dp_alloc_array(n, sizeof(int32_t))) != NULL;
 	ok &= (w->move = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
 	ok &= (w->spacing = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
+	ok &= (w->cv = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
 	if (!ok) {
 		work_free(w);
 		return dp_fail(err, DP_ERR_NOMEM, "surface: out of memory for %zu points", n);
@@ -281,21 +284,25 @@ static void update_normals(work *w, size_t n, double r)
 
 /* Compares the last `window` iterations with the `window` before them (means,
  * as single iterations jitter by a few per cent): done when the mean move has
- * not fallen by min_drop and the spacing (the area per point is ∝ its square)
- * has not grown by min_growth. */
+ * not fallen by min_drop, the spacing (the area per point is ∝ its square)
+ * has not grown by min_growth and its variation has not fallen by min_growth
+ * (dpoints.h has the measurement). */
 static int stop_test(const work *w, int t, const dp_surface_params *p)
 {
 	int k = p->window;
 	if (t < 2 * k)
 		return 0;
-	double move_new = 0.0, move_old = 0.0, sp_new = 0.0, sp_old = 0.0;
+	double move_new = 0.0, move_old = 0.0, sp_new = 0.0, sp_old = 0.0, cv_new = 0.0, cv_old = 0.0;
 	for (int j = 0; j < k; j++) {
 		move_new += w->move[t - j];
 		move_old += w->move[t - k - j];
 		sp_new += w->spacing[t - j];
 		sp_old += w->spacing[t - k - j];
+		cv_new += w->cv[t - j];
+		cv_old += w->cv[t - k - j];
 	}
-	return move_new > (1.0 - p->min_drop) * move_old && sp_new < (1.0 + p->min_growth) * sp_old;
+	return move_new > (1.0 - p->min_drop) * move_old && sp_new < (1.0 + p->min_growth) * sp_old &&
+	       cv_new > (1.0 - p->min_growth) * cv_old;
 }
 
 static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
@@ -356,10 +363,14 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		if ((s = dp_op_surface_data(ctx, &data, err)) != DP_OK ||
 		    (s = dp_op_surface_neighbour(ctx, &nb, err)) != DP_OK)
 			return s;
-		double spacing = 0.0;
-		for (size_t i = 0; i < n; i++)
+		double spacing = 0.0, spacing2 = 0.0;
+		for (size_t i = 0; i < n; i++) {
 			spacing += a[A_NN][i];
-		w->spacing[t] = spacing / (double)n / r;
+			spacing2 += (double)a[A_NN][i] * a[A_NN][i];
+		}
+		double mean_nn = spacing / (double)n;
+		w->spacing[t] = mean_nn / r;
+		w->cv[t] = mean_nn > 0.0 ? sqrt(fmax(spacing2 / (double)n - mean_nn * mean_nn, 0.0)) / mean_nn : 0.0;
 		slide(w, n, p);
 		if (p->reattach) {
 			if ((s = dp_op_surface_reattach(ctx, &re, err)) != DP_OK)
