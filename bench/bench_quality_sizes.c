@@ -3,8 +3,8 @@
  * the sample count). tests/test_pipeline_shapes.c asserts the targets at one
  * small size; this shows how each number moves with size, since the surface
  * stage's spreading into missing regions needs more iterations as the shape
- * gets more r across (measured: one-view sphere coverage 0.97 at 1500
- * samples, 0.83 at 3000, 0.72 at 6000).
+ * gets more r across (measured: one-view sphere coverage 0.99 at 1500
+ * samples, 0.91 at 3000, 0.72 at 6000, the last two at the 200-iteration cap).
  *
  *   bench_quality_sizes [--samples M,M,...] [--seed S] [--noise F] [--device D] [--no-chair]
  *

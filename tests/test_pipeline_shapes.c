@@ -7,11 +7,11 @@
  * larger sizes, where one of them is missed: the one-view sphere's coverage
  * needs more surface iterations as the sphere gets more r across (the
  * tangential repulsion evens the density out like a diffusion). Measured
- * there: 0.97 at 1500 samples (R = 19 r, 119 iterations), 0.83 at 3000
- * (R = 28 r, stopped at 117), 0.72 at 6000 (R = 40 r, the cap of 200); run
- * on at 3000, 200 iterations give 0.90, 300 give 0.95, 500 give 0.98 with the
- * surface still 0.015 R from the sphere. The sizes here are the ones where
- * all targets hold; the size dependence is a known limit, not hidden. */
+ * there, since the stop test also waits for the spacing to even out: 0.99 at
+ * 1500 samples (R = 19 r), 0.91 at 3000 (R = 28 r, the cap of 200
+ * iterations), 0.72 at 6000 (R = 40 r, the cap); before that change the
+ * stage stopped at 0.83 at 3000. The size here is one where all targets
+ * hold; the size dependence is a known limit, not hidden. */
 #include "testkit.h"
 
 #include <math.h>
