@@ -67,7 +67,8 @@ typedef struct dp_cloud {
 } dp_cloud;
 
 /* Allocates arrays for n points (and normals when with_normals); the contents
- * are uninitialised. The struct is overwritten, not freed first. */
+ * are uninitialised. The struct is overwritten, not freed first; the caller
+ * owns it (dp_cloud_free). DP_ERR_NOMEM, the struct zeroed. */
 dp_status dp_cloud_alloc(dp_cloud *cloud, size_t n, int with_normals, dp_error *err);
 /* Adds (uninitialised) normal arrays to a cloud that has none. */
 dp_status dp_cloud_add_normals(dp_cloud *cloud, dp_error *err);
@@ -143,8 +144,10 @@ typedef struct dp_context dp_context;
  * DP_BACKEND_REF no OpenCL call is made. Free with dp_context_free.
  */
 dp_status dp_context_create(dp_context **ctx, dp_backend_kind kind, const char *device, dp_error *err);
+/* Releases the context and its OpenCL objects; NULL is fine. */
 void dp_context_free(dp_context *ctx);
-/* "reference (scalar C)" or the OpenCL platform and device name. */
+/* "reference (scalar C)" or the OpenCL platform and device name; the string
+ * belongs to ctx and lives until dp_context_free. */
 const char *dp_context_device_name(const dp_context *ctx);
 dp_backend_kind dp_context_backend(const dp_context *ctx);
 
@@ -157,7 +160,8 @@ typedef void (*dp_progress_fn)(void *user, const char *stage, int iteration, dou
 void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
 
 /* Prints every OpenCL platform and device with its index, one per line, as
- * accepted by dp_context_create's `device`. */
+ * accepted by dp_context_create's `device`. DP_ERR_NO_DEVICE when there is
+ * none, DP_ERR_CL when the query fails. Reentrant. */
 dp_status dp_list_devices(FILE *out, dp_error *err);
 
 /* ------------------------------------------------------------------- WLOP */
@@ -541,10 +545,14 @@ typedef struct dp_result {
  * meso-skeleton -> surface consolidation. `input` positions only are read.
  * `params` NULL means the defaults. On success `result` is filled (caller
  * frees with dp_result_free); on error it is zeroed and err names the stage.
- * Uses ctx exclusively for its duration.
+ * Errors: DP_ERR_ARG for NULL arguments, then each stage's errors (see
+ * dp_wlop, dp_estimate_normals, dp_sink, dp_skeleton, dp_surface) and
+ * DP_ERR_EMPTY when the samples have no spacing r. Uses ctx exclusively for
+ * its duration.
  */
 dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params *params, dp_result *result,
 			 dp_error *err);
+/* Frees every array of the result and zeroes it; NULL is fine. */
 void dp_result_free(dp_result *result);
 
 /* -------------------------------------------------------------- rendering */
@@ -776,7 +784,7 @@ typedef struct dp_eval_result {
  */
 dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_params *params,
 		  dp_eval_result *result, dp_error *err);
-/* Prints the result as one JSON object on one line. */
+/* Prints the result as one JSON object on one line; does not flush. */
 void dp_eval_json(const dp_eval_result *result, FILE *out);
 
 /* ------------------------------------------------ Fit to a built-in shape */
