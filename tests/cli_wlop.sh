@@ -16,6 +16,13 @@ if expect_ok wlop wlop "$tmp/sphere.ply" -o "$tmp/wlop.ply" --report "$tmp/repor
 	else
 		fail "wlop: no summary line on stdout: $(cat "$tmp/wlop.out")"
 	fi
+	# Progress on stderr, as consolidate gives it: a big input is not silent.
+	if grep -qE '^  \[ *[0-9.]+ s\] wlop +iteration +1, mean move ' "$tmp/wlop.err" &&
+		grep -qE '\] normals +400 points$' "$tmp/wlop.err"; then
+		ok "wlop progress: $(wc -l <"$tmp/wlop.err") lines on stderr"
+	else
+		fail "wlop: no progress on stderr: $(cat "$tmp/wlop.err")"
+	fi
 	# Normals: unit length and, on a sphere at the origin, pointing away from it.
 	if msg=$(py "$PLY_PY"'
 import math
@@ -72,7 +79,12 @@ fi
 expect_ok tiny scan --shape sphere --views 4 --res 24 --noise 0.003 -o "$tmp/tiny.ply" || finish
 tiny_params=(--samples 80 --iters 20)
 if expect_ok tiny_cl wlop "$tmp/tiny.ply" -o "$tmp/tiny_cl.ply" "${tiny_params[@]}" &&
-	expect_ok tiny_ref wlop "$tmp/tiny.ply" -o "$tmp/tiny_ref.ply" --backend ref "${tiny_params[@]}"; then
+	expect_ok tiny_ref wlop "$tmp/tiny.ply" -o "$tmp/tiny_ref.ply" --backend ref --quiet "${tiny_params[@]}"; then
+	if [ -s "$tmp/tiny_ref.err" ]; then
+		fail "wlop --quiet wrote on stderr: $(cat "$tmp/tiny_ref.err")"
+	else
+		ok "wlop --quiet: nothing on stderr"
+	fi
 	msg=""
 	if grep -q 'ref on reference' "$tmp/tiny_ref.out" && msg=$(py "$PLY_PY"'
 _, a, _ = read_ply(sys.argv[1])

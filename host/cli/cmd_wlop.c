@@ -1,5 +1,5 @@
 /* dpoints wlop: raw cloud -> WLOP samples with oriented normals (stage 1). */
-#include "cli/session.h"
+#include "cli/consolidate.h"
 #include "core/common.h"
 
 #include <string.h>
@@ -12,7 +12,26 @@ typedef struct wlop_run {
 	dp_normal_params np;
 	dp_wlop_stats ws;
 	double seconds_read, seconds_normals, seconds_write;
+	double context_start; /* seconds since the command started when the context was made */
+	int quiet;
 } wlop_run;
+
+/* The library reports seconds since the context was made; reading came before
+ * it, so the lines count from the command's start like the other lines here. */
+static void wlop_progress(void *user, const char *stage, int iteration, double value, double elapsed)
+{
+	const wlop_run *run = user;
+	dp_cli_progress(NULL, stage, iteration, value, run->context_start + elapsed);
+}
+
+/* A line before a step with no iterations to report, which on millions of
+ * points takes long enough to look like a hang. Nothing is printed before the
+ * first WLOP iteration, so an input or device error stays one line. */
+static void wlop_step(const wlop_run *run, double start, const char *step, size_t points)
+{
+	if (!run->quiet)
+		fprintf(stderr, "  [%7.1f s] %-9s %zu points\n", dp_seconds() - start, step, points);
+}
 
 void dp_cli_json_wlop_params(json_writer *w, const dp_wlop_params *p)
 {
@@ -115,6 +134,7 @@ int dp_cmd_wlop(int argc, char **argv)
 		CLI_BACKEND_OPTS(run.backend, device),
 		{"--report", CLI_STRING, &report, "also write the summary and every parameter as JSON", NULL, NULL},
 		{"--ascii", CLI_FLAG, &ascii, "write ascii PLY instead of binary", NULL, NULL},
+		{"--quiet", CLI_FLAG, &run.quiet, "no progress on stderr", NULL, NULL},
 	};
 	const char *pos[1];
 	size_t npos;
@@ -135,22 +155,26 @@ int dp_cmd_wlop(int argc, char **argv)
 	dp_error err = {0};
 	dp_cloud in = {0}, out = {0};
 	dp_context *ctx = NULL;
-	double t0 = dp_seconds();
+	double start = dp_seconds(), t0 = start;
 	if (dp_cloud_read(run.input, &in, DP_READ_POINTS, &err) != DP_OK) {
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}
 	run.points_in = in.n;
 	run.seconds_read = dp_seconds() - t0;
+	run.context_start = dp_seconds() - start;
 	if ((rc = cli_open_context(cmd, run.backend, device, &ctx)))
 		goto done;
 	run.device_name = dp_context_device_name(ctx);
+	if (!run.quiet)
+		dp_context_set_progress(ctx, wlop_progress, &run);
 	if (dp_wlop(ctx, &in, &run.wp, &out, &run.ws, &err) != DP_OK) {
 		dp_cli_name_input(&err, run.input);
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}
 	run.wp.samples = out.n;
+	wlop_step(&run, start, "normals", out.n);
 	t0 = dp_seconds();
 	if (dp_estimate_normals(&out, &run.np, &err) != DP_OK) {
 		dp_cli_name_input(&err, run.input);
@@ -158,6 +182,7 @@ int dp_cmd_wlop(int argc, char **argv)
 		goto done;
 	}
 	run.seconds_normals = dp_seconds() - t0;
+	wlop_step(&run, start, "write", out.n);
 	t0 = dp_seconds();
 	if (dp_cloud_write_ply(run.output, &out, ascii, &err) != DP_OK) {
 		rc = dp_cli_fail(cmd, &err);
