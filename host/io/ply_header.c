@@ -119,6 +119,19 @@ static dp_status set_format(dp_io_stream *s, ply_header *h, char **tok, int ntok
 	return DP_OK;
 }
 
+/* A row without properties takes no bytes, so no file size bounds its count
+ * and reading 2^64 of them never ends. */
+static dp_status check_empty_rows(dp_io_stream *s, const ply_header *h, dp_error *err)
+{
+	for (int e = 0; e < h->nelements; e++) {
+		const ply_element *el = &h->elements[e];
+		if (el->nprops == 0 && el->count > 0)
+			return dp_fail(err, DP_ERR_FORMAT, "%s: element '%s' declares %llu rows but has no properties",
+				       s->path, el->name, (unsigned long long)el->count);
+	}
+	return DP_OK;
+}
+
 /* Checks that the vertex element has usable x, y, z and notes the normals. */
 static dp_status check_vertex(dp_io_stream *s, ply_header *h, dp_error *err)
 {
@@ -174,5 +187,7 @@ dp_status dp_io_ply_read_header(dp_io_stream *s, ply_header *h, dp_error *err)
 	}
 	if (!have_format)
 		return dp_fail(err, DP_ERR_FORMAT, "%s: the header has no format line", s->path);
+	if ((st = check_empty_rows(s, h, err)) != DP_OK)
+		return st;
 	return check_vertex(s, h, err);
 }

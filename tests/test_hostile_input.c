@@ -1,0 +1,104 @@
+/* Inputs built to hurt (issue 9): files whose headers are well formed but
+ * whose counts or contents make reading never end or cost far more than the
+ * answer needs. Each must be refused quickly, with one line naming the file. */
+#include "files.h"
+#include "testkit.h"
+
+#include <signal.h>
+#include <stdio.h>
+#include <string.h>
+#include <unistd.h>
+
+static char dir[64];
+
+/* A hang would stall the whole suite until ctest's timeout; an alarm turns it
+ * into a failure of this test with a message. */
+static void on_alarm(int sig)
+{
+	(void)sig;
+	static const char msg[] = "FAIL: reading did not finish in time (hang)\n";
+	if (write(2, msg, sizeof msg - 1) < 0) {
+		/* nothing more to do on the way out */
+	}
+	_exit(1);
+}
+
+static int setup(void **state)
+{
+	(void)state;
+	snprintf(dir, sizeof dir, "%s", tk_temp_dir());
+	signal(SIGALRM, on_alarm);
+	return 0;
+}
+
+static int teardown(void **state)
+{
+	(void)state;
+	tk_remove_dir(dir);
+	return 0;
+}
+
+static void expect_refused(const char *path, const char *needle)
+{
+	dp_cloud c;
+	dp_error err = {0};
+	alarm(20);
+	dp_status st = dp_cloud_read(path, &c, DP_READ_POINTS, &err);
+	alarm(0);
+	if (st != DP_ERR_FORMAT)
+		fail_msg("%s: expected DP_ERR_FORMAT, got %d: %s", path, st, err.message);
+	if (strncmp(err.message, path, strlen(path)) != 0 || strchr(err.message, '\n'))
+		fail_msg("not one line starting with the path: %s", err.message);
+	if (needle && !strstr(err.message, needle))
+		fail_msg("message lacks '%s': %s", needle, err.message);
+	assert_null(c.x);
+	assert_int_equal(c.n, 0);
+}
+
+#define PLY_VERTEX(format) \
+	"ply\nformat " format " 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\n"
+
+/* Issue 9, defect 1: an element without properties has rows of no bytes, so
+ * the file size bounds nothing and 2^64 rows were read for ever. */
+static void test_element_without_properties(void **state)
+{
+	(void)state;
+	const char *formats[] = {"ascii", "binary_little_endian", "binary_big_endian"};
+	const char *counts[] = {"18446744073709551615", "1000000", "1"};
+	for (size_t f = 0; f < 3; f++)
+		for (size_t k = 0; k < 3; k++) {
+			char text[512], name[64];
+			int binary = f > 0;
+			snprintf(text, sizeof text, PLY_VERTEX("%s") "element junk %s\nend_header\n%s", formats[f],
+				 counts[k], binary ? "" : "1 2 3\n");
+			snprintf(name, sizeof name, "empty_rows_%zu_%zu.ply", f, k);
+			size_t len = strlen(text);
+			if (binary) {
+				/* one vertex of three floats after the header */
+				memset(text + len, 0, 12);
+				len += 12;
+			}
+			expect_refused(tk_write_file(dir, name, text, len), "junk");
+		}
+	/* the same element before the vertex one */
+	expect_refused(tk_write_text(dir, "empty_first.ply",
+				     "ply\nformat ascii 1.0\nelement junk 5\nelement vertex 1\nproperty float x\n"
+				     "property float y\nproperty float z\nend_header\n1 2 3\n"),
+		       "no properties");
+	/* an empty element with no rows is harmless and stays readable */
+	dp_cloud c;
+	dp_error err = {0};
+	const char *ok = tk_write_text(dir, "empty_none.ply",
+				       PLY_VERTEX("ascii") "element junk 0\nend_header\n1 2 3\n");
+	assert_int_equal(dp_cloud_read(ok, &c, DP_READ_POINTS, &err), DP_OK);
+	assert_int_equal(c.n, 1);
+	dp_cloud_free(&c);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_element_without_properties),
+	};
+	return cmocka_run_group_tests(tests, setup, teardown);
+}
