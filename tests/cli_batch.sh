@@ -59,7 +59,7 @@ for s in "${scans[@]}"; do
 	[ -f "$data/$s" ] && paths+=("$data/$s")
 done
 if [ "${#paths[@]}" -ne "${#scans[@]}" ]; then
-	echo "SKIP the batch over real scans: ${scans[*]} not all found in $data"
+	skip "the batch over real scans: ${scans[*]} not all found in $data"
 else
 	if expect_ok real consolidate "${paths[@]}" -o "$tmp/real" --quiet; then
 		for s in "${scans[@]}"; do

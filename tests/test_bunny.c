@@ -248,5 +248,5 @@ int main(void)
 		cmocka_unit_test(test_one_view),
 		cmocka_unit_test(test_two_views),
 	};
-	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
+	return tk_exit_status(cmocka_run_group_tests(tests, NULL, tk_teardown_contexts));
 }

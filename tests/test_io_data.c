@@ -174,5 +174,5 @@ int main(void)
 		cmocka_unit_test(test_data_files),
 		cmocka_unit_test(test_loops_zero_normals),
 	};
-	return cmocka_run_group_tests(tests, NULL, NULL);
+	return tk_exit_status(cmocka_run_group_tests(tests, NULL, NULL));
 }

@@ -260,5 +260,5 @@ int main(void)
 		cmocka_unit_test(test_sphere_20k),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
-	return rc;
+	return tk_exit_status(rc);
 }

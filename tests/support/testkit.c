@@ -96,6 +96,13 @@ void tk_assert_close(const float *a, const float *b, size_t n, float rtol, float
 			 (double)a[worst], (double)b[worst]);
 }
 
+static int tk_data_missing;
+
+int tk_exit_status(int failed)
+{
+	return failed ? failed : tk_data_missing ? TK_EXIT_SKIPPED : 0;
+}
+
 const char *tk_data_path(const char *relative)
 {
 	static char path[8192];
@@ -110,6 +117,7 @@ const char *tk_data_path(const char *relative)
 	struct stat sb;
 	if (stat(path, &sb) != 0) {
 		printf("SKIP: test data %s is absent (shared data folder not found)\n", path);
+		tk_data_missing = 1;
 		return NULL;
 	}
 	return path;

@@ -33,6 +33,12 @@ void tk_assert_close(const float *a, const float *b, size_t n, float rtol, float
  * when the folder is absent: callers then skip(). Static buffer. */
 const char *tk_data_path(const char *relative);
 
+/* What main returns after cmocka_run_group_tests: the failure count, or
+ * TK_EXIT_SKIPPED when nothing failed but tk_data_path found data missing, so
+ * ctest (SKIP_RETURN_CODE) lists the program as skipped rather than passed. */
+#define TK_EXIT_SKIPPED 77
+int tk_exit_status(int failed);
+
 /* A fresh temporary folder (mkdtemp); static buffer. */
 const char *tk_temp_dir(void);
 
