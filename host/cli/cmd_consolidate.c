@@ -179,22 +179,6 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->surface.reattach = !no_reattach;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
-	struct stat sb;
-	int outdir_existed = stat(outdir, &sb) == 0;
-	if ((rc = dp_cli_mkdir(cmd, outdir)))
-		return rc;
-
-	dp_context *ctx = NULL;
-	if ((rc = cli_open_context(cmd, backend, device, &ctx))) {
-		if (!outdir_existed)
-			rmdir(outdir);
-		return rc;
-	}
-	if (!quiet)
-		dp_context_set_progress(ctx, dp_cli_progress, NULL);
-	job.backend_name = backend ? "ref" : "cl";
-	job.device_name = dp_context_device_name(ctx);
-
 	size_t failed = 0;
 	int first_failure = 0;
 	dp_consolidate_summary *summary = calloc(ninputs, sizeof *summary);
@@ -202,17 +186,38 @@ int dp_cmd_consolidate(int argc, char **argv)
 	if (!summary || !dirs) {
 		free(summary);
 		free(dirs);
-		dp_context_free(ctx);
 		fprintf(stderr, "dpoints %s: out of memory\n", cmd);
 		return DP_EXIT_NOMEM;
 	}
-	for (size_t i = 0; i < ninputs; i++) {
+	/* every folder first: a later input may sit where an earlier one writes */
+	for (size_t i = 0; i < ninputs && !rc; i++) {
 		dirs[i] = ninputs == 1 ? strdup(outdir) : batch_dir(outdir, inputs[i], i, dirs);
 		if (!dirs[i]) {
 			fprintf(stderr, "dpoints %s: out of memory\n", cmd);
-			first_failure = DP_EXIT_NOMEM;
-			break;
+			rc = DP_EXIT_NOMEM;
+		} else {
+			rc = cli_check_folder_not_input(cmd, dirs[i], inputs, ninputs);
 		}
+	}
+	struct stat sb;
+	int outdir_existed = stat(outdir, &sb) == 0;
+	dp_context *ctx = NULL;
+	if (!rc && !(rc = dp_cli_mkdir(cmd, outdir)) && (rc = cli_open_context(cmd, backend, device, &ctx)) &&
+	    !outdir_existed)
+		rmdir(outdir);
+	if (rc) {
+		for (size_t i = 0; i < ninputs; i++)
+			free(dirs[i]);
+		free(dirs);
+		free(summary);
+		return rc;
+	}
+	if (!quiet)
+		dp_context_set_progress(ctx, dp_cli_progress, NULL);
+	job.backend_name = backend ? "ref" : "cl";
+	job.device_name = dp_context_device_name(ctx);
+
+	for (size_t i = 0; i < ninputs; i++) {
 		const char *dir = dirs[i];
 		if (!quiet && ninputs > 1)
 			fprintf(stderr, "[%zu/%zu] %s\n", i + 1, ninputs, inputs[i]);

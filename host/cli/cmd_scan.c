@@ -47,6 +47,9 @@ int dp_cmd_scan(int argc, char **argv)
 	sp.normals = !no_normals;
 	if ((rc = cli_check_output(cmd, output)) || (mesh_out && (rc = cli_check_output(cmd, mesh_out))))
 		return rc;
+	if ((rc = cli_check_not_input(cmd, output, pos, npos)) ||
+	    (mesh_out && (rc = cli_check_not_input(cmd, mesh_out, pos, npos))))
+		return rc;
 
 	dp_error err = {0};
 	dp_cloud mesh = {0}, points = {0};

@@ -151,6 +151,9 @@ int dp_cmd_wlop(int argc, char **argv)
 	run.input = pos[0];
 	if ((rc = cli_check_output(cmd, run.output)) || (report && (rc = cli_check_output(cmd, report))))
 		return rc;
+	if ((rc = cli_check_not_input(cmd, run.output, pos, 1)) ||
+	    (report && (rc = cli_check_not_input(cmd, report, pos, 1))))
+		return rc;
 
 	dp_error err = {0};
 	dp_cloud in = {0}, out = {0};

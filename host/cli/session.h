@@ -19,6 +19,11 @@ void dp_cli_name_input(dp_error *err, const char *input);
 /* Fails early (exit code) when the folder of `path` is not writable, so a long
  * run does not end in an unwritable output. */
 int cli_check_output(const char *cmd, const char *path);
+/* Fails (exit code, after one error line) when `output` exists and is the
+ * same file as one of the inputs, which writing it would replace. */
+int cli_check_not_input(const char *cmd, const char *output, const char *const *inputs, size_t ninputs);
+/* The same for every file a consolidate run writes into folder `dir`. */
+int cli_check_folder_not_input(const char *cmd, const char *dir, const char *const *inputs, size_t ninputs);
 /* Writes a JSON document through a temporary file and a rename. */
 int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg),
 		   const void *arg);
