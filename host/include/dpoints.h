@@ -226,8 +226,10 @@ typedef struct dp_wlop_stats {
  * at random (seeded); the order of the output is that choice. `params` NULL
  * means defaults; `stats` may be NULL. Errors (samples left zeroed):
  * DP_ERR_EMPTY for an empty input; DP_ERR_ARG for m == 0, m > |C|, fewer than
- * m distinct input positions, non-finite coordinates or parameters out of
- * range; DP_ERR_NOMEM; DP_ERR_CL from the device.
+ * m distinct input positions, non-finite coordinates, coordinates spanning
+ * so large a range that squared distances overflow a float (a far outlier),
+ * or parameters out of range (h^2 too overflows a float); DP_ERR_NOMEM;
+ * DP_ERR_CL from the device.
  */
 dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *params,
 		  dp_cloud *samples, dp_wlop_stats *stats, dp_error *err);
@@ -263,7 +265,8 @@ void dp_normal_params_default(dp_normal_params *p);
  * sheet is oriented consistently, to one side. With use_viewpoint every normal
  * is turned towards the viewpoint instead.
  * params NULL means defaults. Errors: DP_ERR_ARG (NULL cloud, k < 2,
- * k_graph < 1, a non-finite point or viewpoint), DP_ERR_EMPTY (no points),
+ * k_graph < 1, a non-finite point or viewpoint, coordinates whose squared
+ * distances overflow a float), DP_ERR_EMPTY (no points),
  * DP_ERR_NOMEM; on error the normal values are unspecified.
  */
 dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err);

@@ -3,6 +3,7 @@
 #include "core/common.h"
 
 #include <flann/flann.h>
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -19,11 +20,37 @@ static struct FLANNParameters exact_params(void)
 	return p;
 }
 
+dp_status dp_check_span(const char *stage, size_t n, const float *x, const float *y, const float *z, dp_error *err)
+{
+	if (n == 0)
+		return DP_OK;
+	double lo[3] = {x[0], y[0], z[0]}, hi[3] = {x[0], y[0], z[0]};
+	for (size_t i = 1; i < n; i++) {
+		double p[3] = {x[i], y[i], z[i]};
+		for (int a = 0; a < 3; a++) {
+			lo[a] = p[a] < lo[a] ? p[a] : lo[a];
+			hi[a] = p[a] > hi[a] ? p[a] : hi[a];
+		}
+	}
+	double d2 = 0.0;
+	for (int a = 0; a < 3; a++)
+		d2 += (hi[a] - lo[a]) * (hi[a] - lo[a]);
+	if (d2 <= FLT_MAX)
+		return DP_OK;
+	return dp_fail(err, DP_ERR_ARG,
+		       "%s: the coordinates span %.3g (box diagonal), too large a range: squared distances overflow "
+		       "single precision (remove far outliers or rescale)",
+		       stage, sqrt(d2));
+}
+
 dp_status dp_knn_build(dp_knn *knn, size_t n, const float *x, const float *y, const float *z, dp_error *err)
 {
 	memset(knn, 0, sizeof *knn);
 	if (n == 0 || n > INT32_MAX)
 		return dp_fail(err, DP_ERR_ARG, "knn: cannot index %zu points", n);
+	dp_status st = dp_check_span("knn", n, x, y, z, err);
+	if (st != DP_OK)
+		return st;
 	knn->xyz = dp_alloc_array(3 * n, sizeof(float));
 	if (!knn->xyz)
 		return dp_fail(err, DP_ERR_NOMEM, "knn: out of memory for %zu points", n);
@@ -61,6 +88,13 @@ static dp_status query_block(const dp_knn *knn, float *q, size_t nq, int k, int 
 			     int *tmp_i, float *tmp_d, int skip_self, size_t first, dp_error *err)
 {
 	struct FLANNParameters p = exact_params();
+	/* When squared distances overflow to infinity FLANN finds fewer
+	 * neighbours than asked: it may leave slots unwritten, or fill them with
+	 * index 0 at an infinite distance. Neither is a neighbour. */
+	for (size_t j = 0; j < nq * (size_t)kk; j++) {
+		tmp_i[j] = -1;
+		tmp_d[j] = INFINITY;
+	}
 	if (flann_find_nearest_neighbors_index_float(knn->index, q, (int)nq, tmp_i, tmp_d, kk, &p) != 0)
 		return dp_fail(err, DP_ERR_INTERNAL, "knn: FLANN query failed");
 	for (size_t i = 0; i < nq; i++) {
@@ -69,10 +103,11 @@ static dp_status query_block(const dp_knn *knn, float *q, size_t nq, int k, int 
 		int out = 0;
 		for (int j = 0; j < kk && out < k; j++) {
 			int id = tmp_i[i * (size_t)kk + (size_t)j];
-			if (skip_self && (size_t)id == first + i)
+			float d = tmp_d[i * (size_t)kk + (size_t)j];
+			if (id < 0 || (size_t)id >= knn->n || !(d < INFINITY) || (skip_self && (size_t)id == first + i))
 				continue;
 			idx[i * (size_t)k + (size_t)out] = id;
-			d2[i * (size_t)k + (size_t)out] = tmp_d[i * (size_t)kk + (size_t)j];
+			d2[i * (size_t)k + (size_t)out] = d;
 			out++;
 		}
 		for (; out < k; out++) {

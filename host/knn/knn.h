@@ -13,6 +13,13 @@ typedef struct dp_knn {
 	size_t n;
 } dp_knn;
 
+/* Refuses (DP_ERR_ARG, the message starting with `stage`) points whose
+ * bounding box has a squared diagonal beyond FLT_MAX: their squared distances
+ * overflow to infinity, and no neighbour search or kernel weight means
+ * anything. A far outlier (one point at 1e20 beside a unit sphere) does it. */
+dp_status dp_check_span(const char *stage, size_t n, const float *x, const float *y, const float *z, dp_error *err);
+
+/* Fails as dp_check_span does when the points span too large a range. */
 dp_status dp_knn_build(dp_knn *knn, size_t n, const float *x, const float *y, const float *z, dp_error *err);
 void dp_knn_free(dp_knn *knn);
 

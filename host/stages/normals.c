@@ -37,7 +37,7 @@ static dp_status validate(const dp_cloud *cloud, const dp_normal_params *p, dp_e
 	for (size_t i = 0; i < cloud->n; i++)
 		if (!isfinite(cloud->x[i]) || !isfinite(cloud->y[i]) || !isfinite(cloud->z[i]))
 			return dp_fail(err, DP_ERR_ARG, "normals: point %zu has a non-finite coordinate", i);
-	return DP_OK;
+	return dp_check_span("normals", cloud->n, cloud->x, cloud->y, cloud->z, err);
 }
 
 /* Covariance of point i and its first k listed neighbours, taken about p_i in

@@ -13,6 +13,7 @@
 #include "core/distinct.h"
 #include "knn/knn.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -40,6 +41,10 @@ static dp_status check_params(const dp_wlop_params *p, dp_error *err)
 	if (!isfinite(p->h) || (p->h <= 0.0 && !(p->h_factor > 0.0 && isfinite(p->h_factor))))
 		return dp_fail(err, DP_ERR_ARG, "wlop: support radius h = %g (factor %g) is not usable", p->h,
 			       p->h_factor);
+	/* h^2 is taken in float by every kernel */
+	if (p->h * p->h > FLT_MAX)
+		return dp_fail(err, DP_ERR_ARG, "wlop: support radius h = %g is too large: h^2 overflows single precision",
+			       p->h);
 	/* μ < 1/2 is the convergence condition of LOP (Lipman et al. 2007). */
 	if (!(p->mu >= 0.0 && p->mu < 0.5))
 		return dp_fail(err, DP_ERR_ARG, "wlop: repulsion weight mu = %g is not in [0, 0.5)", p->mu);
@@ -63,7 +68,7 @@ static dp_status check_input(const dp_cloud *in, dp_error *err)
 	for (size_t j = 0; j < in->n; j++)
 		if (!isfinite(in->x[j]) || !isfinite(in->y[j]) || !isfinite(in->z[j]))
 			return dp_fail(err, DP_ERR_ARG, "wlop: input point %zu has a non-finite coordinate", j);
-	return DP_OK;
+	return dp_check_span("wlop", in->n, in->x, in->y, in->z, err);
 }
 
 /* m distinct input positions at random: a partial Fisher–Yates shuffle of the
