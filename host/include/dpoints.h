@@ -548,9 +548,12 @@ typedef struct dp_result {
  * meso-skeleton -> surface consolidation. `input` positions only are read.
  * `params` NULL means the defaults. On success `result` is filled (caller
  * frees with dp_result_free); on error it is zeroed and err names the stage.
- * Errors: DP_ERR_ARG for NULL arguments, then each stage's errors (see
- * dp_wlop, dp_estimate_normals, dp_sink, dp_skeleton, dp_surface) and
- * DP_ERR_EMPTY when the samples have no spacing r. Uses ctx exclusively for
+ * Errors: DP_ERR_ARG for NULL arguments and for an input that spans no
+ * volume (fewer than 4 points, or all on a line or in a plane), then each
+ * stage's errors (see dp_wlop, dp_estimate_normals, dp_sink, dp_skeleton,
+ * dp_surface), DP_ERR_EMPTY when the samples have no spacing r, and
+ * DP_ERR_ARG when a stage put a point outside the input's bounding box grown
+ * by its diagonal on every side (an input too degenerate to consolidate). Uses ctx exclusively for
  * its duration.
  */
 dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params *params, dp_result *result,

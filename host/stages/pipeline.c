@@ -2,6 +2,7 @@
  * meso-skeleton Q -> surface P. */
 #include "core/common.h"
 #include "knn/knn.h"
+#include "stages/input_check.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -53,6 +54,8 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		params = &defaults;
 	}
 	memset(res, 0, sizeof *res);
+	if (dp_check_volume(input, err) != DP_OK)
+		return DP_ERR_ARG;
 	double t_start = dp_seconds();
 	res->points_in = input->n;
 	dp_status st = dp_wlop(ctx, input, &params->wlop, &res->wlop, &res->wlop_stats, err);
@@ -103,6 +106,8 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		       dz = res->surface.z[i] - res->skeleton.z[i];
 		res->length[i] = (float)sqrt(dx * dx + dy * dy + dz * dz);
 	}
+	if ((st = dp_check_result_bounds(input, res, err)) != DP_OK)
+		goto fail;
 	res->seconds_total = dp_seconds() - t_start;
 	return DP_OK;
 fail_normals:
