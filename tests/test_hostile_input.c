@@ -6,7 +6,9 @@
 
 #include <signal.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
+#include <sys/resource.h>
 #include <unistd.h>
 
 static char dir[64];
@@ -95,10 +97,64 @@ static void test_element_without_properties(void **state)
 	dp_cloud_free(&c);
 }
 
+static double peak_mb(void)
+{
+	struct rusage ru;
+	getrusage(RUSAGE_SELF, &ru);
+	return ru.ru_maxrss / 1024.0;
+}
+
+/* Issue 9, defect 5: a valid header over a body of zeros (2 GB took 150 s and
+ * 5.7 GB before "1 distinct position"). Reading holds the points once; WLOP
+ * refuses after one pass, before its per-point buffers and sort (which cost
+ * ~40 bytes a point, 110 MB here). Runs first: the peak resident size only
+ * grows, so later tests would hide what this one spends. */
+static void test_body_of_zeros(void **state)
+{
+	(void)state;
+	enum { N = 3000000 };
+	char head[256];
+	int len = snprintf(head, sizeof head,
+			   "ply\nformat binary_little_endian 1.0\nelement vertex %d\nproperty float x\n"
+			   "property float y\nproperty float z\nend_header\n",
+			   N);
+	size_t bytes = (size_t)len + 12 * (size_t)N;
+	char *file = calloc(bytes, 1);
+	assert_non_null(file);
+	memcpy(file, head, (size_t)len);
+	const char *path = tk_write_file(dir, "zeros.ply", file, bytes);
+	free(file);
+	dp_context *ctx = tk_ref_context();
+	double points_mb = 12.0 * N / (1024 * 1024), before = peak_mb();
+
+	dp_cloud c;
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_read(path, &c, DP_READ_POINTS, &err), DP_OK);
+	double after_read = peak_mb();
+	if (after_read - before > 1.5 * points_mb)
+		fail_msg("reading %d points (%.0f MB) raised the peak by %.0f MB", N, points_mb, after_read - before);
+
+	dp_wlop_params p;
+	dp_wlop_params_default(&p);
+	dp_cloud s = {0};
+	alarm(20);
+	assert_int_equal(dp_wlop(ctx, &c, &p, &s, NULL, &err), DP_ERR_ARG);
+	alarm(0);
+	double after_wlop = peak_mb();
+	if (after_wlop - after_read > 0.25 * points_mb)
+		fail_msg("refusing %d copies of one point raised the peak by %.0f MB (the points are %.0f MB)", N,
+			 after_wlop - after_read, points_mb);
+	assert_non_null(strstr(err.message, "1 distinct position,"));
+	dp_cloud_free(&c);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_body_of_zeros),
 		cmocka_unit_test(test_element_without_properties),
 	};
-	return cmocka_run_group_tests(tests, setup, teardown);
+	int failed = cmocka_run_group_tests(tests, setup, teardown);
+	tk_teardown_contexts(NULL);
+	return failed;
 }
