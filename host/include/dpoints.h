@@ -94,6 +94,21 @@ typedef enum dp_read_flags {
  */
 dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err);
 
+/*
+ * Reads a point file that is already in memory: the `size` bytes at `data`
+ * are parsed exactly as dp_cloud_read parses a file named `name`, whose
+ * extension picks the format ("scan.ply", "cloud.xyz", ...) and which error
+ * messages name as the file. `data` is only read, needs no terminating NUL,
+ * and is not referenced after the call returns; the caller keeps it. Errors
+ * and guarantees are dp_cloud_read's: DP_ERR_FORMAT for an unknown extension
+ * or malformed contents, DP_ERR_EMPTY for size 0 or no points, DP_ERR_NOMEM,
+ * DP_ERR_ARG for a NULL cloud or name, NULL data with size > 0 or unknown
+ * flags; on error `cloud` is left zeroed, on success the caller owns it
+ * (dp_cloud_free). Reentrant; owned by the I/O module (host/io).
+ */
+dp_status dp_cloud_read_memory(const void *data, size_t size, const char *name, dp_cloud *cloud, int flags,
+			       dp_error *err);
+
 /* A named per-vertex float property for dp_ply_write. */
 typedef struct dp_ply_property {
 	const char *name;

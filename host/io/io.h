@@ -11,10 +11,14 @@
 
 /* ------------------------------------------------------------ input stream */
 
-/* A file read in large chunks through one buffer, so text parsers can run
- * strtof over memory instead of calling stdio per token. */
+/* A file (or a caller's bytes in memory) read in large chunks through one
+ * buffer, so text parsers can run strtof over memory instead of calling stdio
+ * per token. Memory goes through the same buffer and refills as a file: the
+ * parsers write into the buffer (NUL-terminating lines), and the fuzzers
+ * reach every refill path through dp_cloud_read_memory. */
 typedef struct dp_io_stream {
-	int fd;
+	int fd;              /* -1 when reading memory */
+	const unsigned char *mem; /* the bytes read when fd is -1; not owned */
 	const char *path;    /* for error messages; not owned */
 	char *buf;           /* cap + 1 bytes: room to NUL-terminate a last line */
 	size_t cap, pos, end; /* unread bytes are buf[pos, end) */
@@ -26,6 +30,9 @@ typedef struct dp_io_stream {
 
 /* Opens `path`; DP_ERR_IO (with strerror) when missing or unreadable. */
 dp_status dp_io_open(dp_io_stream *s, const char *path, dp_error *err);
+/* Reads `size` bytes at `data` (kept, not copied, until dp_io_close) as if they
+ * were a file named `name`. Fails only with DP_ERR_NOMEM. */
+dp_status dp_io_open_memory(dp_io_stream *s, const void *data, size_t size, const char *name, dp_error *err);
 void dp_io_close(dp_io_stream *s);
 
 /* Next line without its "\n" or "\r\n", NUL-terminated and writable until the

@@ -23,6 +23,41 @@ static const char *extension(const char *path)
 	return dot && dot != name ? dot + 1 : "";
 }
 
+/* The reader for the extension of `path`, or NULL. */
+static dp_io_reader reader_for(const char *path)
+{
+	const char *ext = extension(path);
+	for (size_t i = 0; i < sizeof readers / sizeof readers[0]; i++)
+		if (strcasecmp(ext, readers[i].extension) == 0)
+			return readers[i].read;
+	return NULL;
+}
+
+static dp_status unknown_format(const char *path, dp_error *err)
+{
+	return dp_fail(err, DP_ERR_FORMAT,
+		       "%s: unknown point file format '%s' (expected .ply, .xyz, .xyzn, .pwn, .txt, .pts, .pcd, .off or .obj)",
+		       path, extension(path));
+}
+
+/* Parses an open stream into `cloud` and closes the stream. */
+static dp_status read_stream(dp_io_stream *s, dp_io_reader read, dp_cloud *cloud, int flags, dp_error *err)
+{
+	dp_status st;
+	if (s->size == 0) {
+		st = dp_fail(err, DP_ERR_EMPTY, "%s: empty file", s->path);
+	} else {
+		dp_io_builder b;
+		dp_io_builder_init(&b);
+		st = read(s, &b, flags, err);
+		if (st == DP_OK)
+			st = dp_io_builder_finish(&b, s->path, cloud, err);
+		dp_io_builder_free(&b);
+	}
+	dp_io_close(s);
+	return st;
+}
+
 dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err)
 {
 	if (!cloud)
@@ -36,27 +71,34 @@ dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *
 	dp_status st = dp_io_open(&s, path, err);
 	if (st != DP_OK)
 		return st;
-	const char *ext = extension(path);
-	dp_io_reader read = NULL;
-	for (size_t i = 0; i < sizeof readers / sizeof readers[0]; i++)
-		if (strcasecmp(ext, readers[i].extension) == 0)
-			read = readers[i].read;
+	dp_io_reader read = reader_for(path);
 	if (!read) {
-		st = dp_fail(err, DP_ERR_FORMAT,
-			     "%s: unknown point file format '%s' (expected .ply, .xyz, .xyzn, .pwn, .txt, .pts, .pcd, .off or .obj)",
-			     path, ext);
-	} else if (s.size == 0) {
-		st = dp_fail(err, DP_ERR_EMPTY, "%s: empty file", path);
-	} else {
-		dp_io_builder b;
-		dp_io_builder_init(&b);
-		st = read(&s, &b, flags, err);
-		if (st == DP_OK)
-			st = dp_io_builder_finish(&b, path, cloud, err);
-		dp_io_builder_free(&b);
+		dp_io_close(&s);
+		return unknown_format(path, err);
 	}
-	dp_io_close(&s);
-	return st;
+	return read_stream(&s, read, cloud, flags, err);
+}
+
+dp_status dp_cloud_read_memory(const void *data, size_t size, const char *name, dp_cloud *cloud, int flags,
+			       dp_error *err)
+{
+	if (!cloud)
+		return dp_fail(err, DP_ERR_ARG, "dp_cloud_read_memory: cloud is NULL");
+	memset(cloud, 0, sizeof *cloud);
+	if (!name)
+		return dp_fail(err, DP_ERR_ARG, "dp_cloud_read_memory: name is NULL");
+	if (!data && size > 0)
+		return dp_fail(err, DP_ERR_ARG, "%s: data is NULL but size is %zu", name, size);
+	if (flags & ~DP_READ_MESH)
+		return dp_fail(err, DP_ERR_ARG, "%s: unknown read flags 0x%x", name, (unsigned)flags);
+	dp_io_reader read = reader_for(name);
+	if (!read)
+		return unknown_format(name, err);
+	dp_io_stream s;
+	dp_status st = dp_io_open_memory(&s, data, size, name, err);
+	if (st != DP_OK)
+		return st;
+	return read_stream(&s, read, cloud, flags, err);
 }
 
 dp_status dp_ply_read_edges(const char *path, uint32_t **edges, size_t *nedges, dp_error *err)
