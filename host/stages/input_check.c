@@ -44,8 +44,9 @@ dp_status dp_check_volume(const dp_cloud *in, dp_error *err)
 	double sd[3];
 	for (int a = 0; a < 3; a++)
 		sd[a] = w[a] > 0.0 ? sqrt(w[a]) : 0.0;
+	/* WLOP's count of distinct positions says it with the numbers */
 	if (!(sd[2] > 0.0))
-		return dp_fail(err, DP_ERR_ARG, "consolidate: all %zu input points are at one position", n);
+		return DP_OK;
 	if (sd[1] <= DP_FLAT_RATIO * sd[2])
 		return dp_fail(err, DP_ERR_ARG, "consolidate: the %zu input points lie on a line: they span no volume",
 			       n);
@@ -64,7 +65,8 @@ static dp_status check_cloud(const dp_cloud *c, const char *stage, const double 
 			if (!(p[a] >= lo[a] - margin && p[a] <= hi[a] + margin))
 				return dp_fail(err, DP_ERR_ARG,
 					       "consolidate: %s point %zu at (%g, %g, %g) is far outside the input's box "
-					       "[%g, %g] x [%g, %g] x [%g, %g]: the input is too degenerate for this stage",
+					       "[%g, %g] x [%g, %g] x [%g, %g]: no meaningful result (too few deep points for "
+					       "this input, or an input too degenerate)",
 					       stage, i, p[0], p[1], p[2], lo[0], hi[0], lo[1], hi[1], lo[2], hi[2]);
 	}
 	return DP_OK;
@@ -87,7 +89,7 @@ dp_status dp_check_result_bounds(const dp_cloud *in, const dp_result *res, dp_er
 	const struct {
 		const dp_cloud *c;
 		const char *stage;
-	} sets[] = {{&res->wlop, "wlop"}, {&res->anchors, "sink"}, {&res->skeleton, "skeleton"}, {&res->surface, "surface"}};
+	} sets[] = {{&res->wlop, "wlop"}, {&res->skeleton, "skeleton"}, {&res->surface, "surface"}};
 	for (size_t k = 0; k < sizeof sets / sizeof sets[0]; k++) {
 		dp_status st = check_cloud(sets[k].c, sets[k].stage, lo, hi, diag, err);
 		if (st != DP_OK)

@@ -16,10 +16,13 @@ dp_status dp_check_volume(const dp_cloud *in, dp_error *err);
 #define DP_FLAT_RATIO 1e-5
 
 /* Fails (DP_ERR_ARG, naming the stage and the point) when a point of the WLOP
- * samples, anchors, skeleton or surface of `res` lies outside the input's
- * bounding box grown by one box diagonal on every side: no stage moves a
- * point that far on an input it can handle (completing an unseen back side
- * reaches about one box depth). */
+ * samples, skeleton or surface of `res` lies outside the input's bounding box
+ * grown by one box diagonal on every side: no stage moves a point that far on
+ * an input it can handle (completing an unseen back side reaches about one
+ * box depth). The anchors are not checked: unsettled points may sink far and
+ * are only an intermediate. Measured: a 3-view torus scan at 91-100 deep
+ * points had its whole skeleton 13-14 units below the 0.6-unit torus; at 200
+ * none out. */
 dp_status dp_check_result_bounds(const dp_cloud *in, const dp_result *res, dp_error *err);
 
 #endif
