@@ -2,20 +2,22 @@
  * host/ref/surface_ref.c, the meanings are in host/backend/surface_ops.h. */
 
 __kernel void surface_data(const uint n, __global const float *qx, __global const float *qy,
-			   __global const float *qz, GRID_ARGS, const float radius, const float r,
-			   const float min_d2, __global float *eta_out, __global float *sum_alpha_out,
+			   __global const float *qz, __global const float *qsx, __global const float *qsy,
+			   __global const float *qsz, __global const float *qdepth, GRID_ARGS, const float radius,
+			   const float r, const float min_d2, __global float *eta_out, __global float *sum_alpha_out,
 			   __global float *ox, __global float *oy, __global float *oz)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
 	float px = qx[i], py = qy[i], pz = qz[i];
+	float six = qsx[i], siy = qsy[i], siz = qsz[i], depth = qdepth[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
 	float eta = 1.0f, sa = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
 	GRID_FOR(px, py, pz, k)
 		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
 		float d2 = dx * dx + dy * dy + dz * dz;
-		if (d2 < rad2) {
+		if (d2 < rad2 && dx * six + dy * siy + dz * siz + depth > 0.0f) {
 			float theta = exp(-d2 * inv_r * inv_r);
 			eta += theta;
 			if (d2 >= min_d2) {
@@ -37,8 +39,9 @@ __kernel void surface_data(const uint n, __global const float *qx, __global cons
 __kernel void surface_neighbour(const uint n, __global const float *qx, __global const float *qy,
 				__global const float *qz, __global const float *qnx, __global const float *qny,
 				__global const float *qnz, __global const float *qlen, GRID_ARGS,
-				__global const float *glen, const float radius, const float r, const float min_d2,
-				const float tfloor, __global float *L_out, __global float *var_out,
+				__global const float *glen, __global const float *gnx, __global const float *gny,
+				__global const float *gnz, const float radius, const float r, const float min_d2,
+				const float tfloor, const float side_cos, __global float *L_out, __global float *var_out,
 				__global float *rx, __global float *ry, __global float *rz, __global float *nn_out,
 				__global float *mx, __global float *my, __global float *mz)
 {
@@ -54,7 +57,7 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 	GRID_FOR(px, py, pz, k)
 		float dx = px - gx[k], dy = py - gy[k], dz = pz - gz[k];
 		float d2 = dx * dx + dy * dy + dz * dz;
-		if (d2 < rad2) {
+		if (d2 < rad2 && nx * gnx[k] + ny * gny[k] + nz * gnz[k] > side_cos) {
 			float theta = exp(-d2 * inv_r * inv_r);
 			float dl = glen[k] - len;
 			cx -= theta * dx;
@@ -91,19 +94,22 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 }
 
 __kernel void surface_covariance(const uint n, __global const float *qx, __global const float *qy,
-				 __global const float *qz, GRID_ARGS, const float radius, const float r,
-				 __global float *cov)
+				 __global const float *qz, __global const float *qnx, __global const float *qny,
+				 __global const float *qnz, GRID_ARGS, __global const float *gnx,
+				 __global const float *gny, __global const float *gnz, const float radius,
+				 const float r, const float side_cos, __global float *cov)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
 	float px = qx[i], py = qy[i], pz = qz[i];
+	float nx = qnx[i], ny = qny[i], nz = qnz[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
 	float cnt = 0.0f, mx = 0.0f, my = 0.0f, mz = 0.0f;
 	float cxx = 0.0f, cxy = 0.0f, cxz = 0.0f, cyy = 0.0f, cyz = 0.0f, czz = 0.0f;
 	GRID_FOR(px, py, pz, k)
 		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
-		if (dx * dx + dy * dy + dz * dz < rad2) {
+		if (dx * dx + dy * dy + dz * dz < rad2 && nx * gnx[k] + ny * gny[k] + nz * gnz[k] > side_cos) {
 			dx *= inv_r;
 			dy *= inv_r;
 			dz *= inv_r;

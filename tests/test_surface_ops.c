@@ -26,6 +26,8 @@ typedef struct fixture {
 	float *len;          /* dpoint lengths of the grid points (caller order) */
 	float *glen;         /* the same in grid order */
 	float *qlen;         /* dpoint lengths of the queries */
+	float *gnx, *gny, *gnz; /* unit normals of the grid points, grid order */
+	float *zero, *depth; /* no side vector; the queries' depth behind p (qlen in units) */
 	dp_grid grid;
 } fixture;
 
@@ -34,6 +36,22 @@ static float *alloc_floats(size_t n)
 	float *p = malloc((n ? n : 1) * sizeof *p);
 	assert_non_null(p);
 	return p;
+}
+
+static void random_unit(dp_rng *rng, float *x, float *y, float *z)
+{
+	double v[3], s;
+	do {
+		s = 0.0;
+		for (int a = 0; a < 3; a++) {
+			v[a] = dp_rng_normal(rng);
+			s += v[a] * v[a];
+		}
+	} while (s < 1e-6);
+	s = sqrt(s);
+	*x = (float)(v[0] / s);
+	*y = (float)(v[1] / s);
+	*z = (float)(v[2] / s);
 }
 
 static int setup(void **state)
@@ -89,6 +107,17 @@ static int setup(void **state)
 	f->glen = alloc_floats(f->n);
 	for (size_t k = 0; k < f->n; k++)
 		f->len[k] = (float)(3.0 * dp_rng_uniform(&rng));
+	f->gnx = alloc_floats(f->n);
+	f->gny = alloc_floats(f->n);
+	f->gnz = alloc_floats(f->n);
+	for (size_t k = 0; k < f->n; k++)
+		random_unit(&rng, &f->gnx[k], &f->gny[k], &f->gnz[k]);
+	f->zero = alloc_floats(f->m);
+	f->depth = alloc_floats(f->m);
+	for (size_t i = 0; i < f->m; i++) {
+		f->zero[i] = 0.0f;
+		f->depth[i] = f->qlen[i] * SPACING;
+	}
 	dp_error err = {0};
 	if (dp_grid_build(&f->grid, f->n, f->x, f->y, f->z, RADIUS, &err) != DP_OK)
 		return -1;
@@ -100,7 +129,8 @@ static int setup(void **state)
 static int teardown(void **state)
 {
 	fixture *f = *state;
-	float *arrays[] = {f->x, f->y, f->z, f->qx, f->qy, f->qz, f->nx, f->ny, f->nz, f->len, f->glen, f->qlen};
+	float *arrays[] = {f->x,   f->y,    f->z,   f->qx,  f->qy,  f->qz,   f->nx,   f->ny,
+			   f->nz,  f->len, f->glen, f->qlen, f->gnx, f->gny, f->gnz, f->zero, f->depth};
 	for (size_t a = 0; a < sizeof arrays / sizeof arrays[0]; a++)
 		free(arrays[a]);
 	dp_grid_free(&f->grid);
@@ -108,16 +138,18 @@ static int teardown(void **state)
 	return 0;
 }
 
-static void test_data(void **state)
+/* The data term with the side test (s = the query normal, depth = its
+ * dpoint length; `sided`) or without it (s = 0). */
+static void run_data(const fixture *f, int sided, float *out[2][5])
 {
-	fixture *f = *state;
-	float *out[2][5];
 	for (int b = 0; b < 2; b++)
 		for (int o = 0; o < 5; o++)
 			out[b][o] = alloc_floats(f->m);
 	for (int b = 0; b < 2; b++) {
 		dp_surface_data_args a = {
-			.input = &f->grid, .nq = f->m, .px = f->qx, .py = f->qy, .pz = f->qz, .radius = RADIUS,
+			.input = &f->grid, .nq = f->m, .px = f->qx, .py = f->qy, .pz = f->qz,
+			.sx = sided ? f->nx : f->zero, .sy = sided ? f->ny : f->zero, .sz = sided ? f->nz : f->zero,
+			.depth = sided ? f->depth : f->qlen, .radius = RADIUS,
 			.r = SPACING, .min_d2 = (DP_PAIR_EPS * RADIUS) * (DP_PAIR_EPS * RADIUS),
 			.eta = out[b][0], .sum_alpha = out[b][1], .ox = out[b][2], .oy = out[b][3], .oz = out[b][4],
 		};
@@ -125,6 +157,14 @@ static void test_data(void **state)
 		if (dp_op_surface_data(b ? tk_cl_context() : tk_ref_context(), &a, &err) != DP_OK)
 			fail_msg("%s", err.message);
 	}
+}
+
+static void test_data(void **state)
+{
+	fixture *f = *state;
+	float *out[2][5], *all[2][5];
+	run_data(f, 1, out);
+	run_data(f, 0, all);
 	tk_assert_close(out[1][0], out[0][0], f->m, 1e-4f, 1e-6f, "surface_data eta");
 	tk_assert_close(out[1][1], out[0][1], f->m, 1e-4f, 1e-6f, "surface_data sum_alpha");
 	/* Offsets are averages of vectors up to RADIUS long that may cancel. */
@@ -135,9 +175,18 @@ static void test_data(void **state)
 	 * divided by zero. */
 	for (size_t i = f->m - N_COPIES; i < f->m; i++)
 		assert_true(isfinite(out[0][2][i]) && out[0][0][i] >= 2.0f);
+	/* The side test only ever drops pairs, and it drops some. */
+	size_t fewer = 0;
+	for (size_t i = 0; i < f->m; i++) {
+		assert_true(out[0][0][i] <= all[0][0][i] + 1e-5f);
+		fewer += out[0][0][i] < all[0][0][i] - 1e-3f;
+	}
+	assert_true(fewer > f->m / 4);
 	for (int b = 0; b < 2; b++)
-		for (int o = 0; o < 5; o++)
+		for (int o = 0; o < 5; o++) {
 			free(out[b][o]);
+			free(all[b][o]);
+		}
 }
 
 static void test_neighbour(void **state)
@@ -148,10 +197,12 @@ static void test_neighbour(void **state)
 		for (int o = 0; o < 9; o++)
 			out[b][o] = alloc_floats(f->m);
 	for (int b = 0; b < 2; b++) {
+		/* side_cos 0: a neighbour counts only with a normal within 90° */
 		dp_surface_neighbour_args a = {
-			.surface = &f->grid, .glen = f->glen, .nq = f->m, .px = f->qx, .py = f->qy, .pz = f->qz,
-			.nx = f->nx, .ny = f->ny, .nz = f->nz, .len = f->qlen, .radius = RADIUS, .r = SPACING,
-			.min_d2 = (DP_PAIR_EPS * RADIUS) * (DP_PAIR_EPS * RADIUS), .tfloor = 0.01f,
+			.surface = &f->grid, .glen = f->glen, .gnx = f->gnx, .gny = f->gny, .gnz = f->gnz, .nq = f->m,
+			.px = f->qx, .py = f->qy, .pz = f->qz, .nx = f->nx, .ny = f->ny, .nz = f->nz, .len = f->qlen,
+			.radius = RADIUS, .r = SPACING, .min_d2 = (DP_PAIR_EPS * RADIUS) * (DP_PAIR_EPS * RADIUS),
+			.tfloor = 0.01f, .side_cos = 0.0f,
 			.L = out[b][0], .var = out[b][1], .rx = out[b][2], .ry = out[b][3], .rz = out[b][4],
 			.nn = out[b][5], .mx = out[b][6], .my = out[b][7], .mz = out[b][8],
 		};
@@ -185,8 +236,9 @@ static void test_covariance(void **state)
 	for (int b = 0; b < 2; b++) {
 		cov[b] = alloc_floats(6 * f->m);
 		dp_surface_covariance_args a = {
-			.surface = &f->grid, .nq = f->m, .px = f->qx, .py = f->qy, .pz = f->qz, .radius = RADIUS,
-			.r = SPACING, .cov = cov[b],
+			.surface = &f->grid, .gnx = f->gnx, .gny = f->gny, .gnz = f->gnz, .nq = f->m, .px = f->qx,
+			.py = f->qy, .pz = f->qz, .nx = f->nx, .ny = f->ny, .nz = f->nz, .radius = RADIUS,
+			.r = SPACING, .side_cos = 0.0f, .cov = cov[b],
 		};
 		dp_error err = {0};
 		if (dp_op_surface_covariance(b ? tk_cl_context() : tk_ref_context(), &a, &err) != DP_OK)
@@ -259,7 +311,8 @@ static void test_empty_grid(void **state)
 		for (int c = 0; c < 3; c++)
 			o[c] = alloc_floats(f->m);
 		dp_surface_data_args a = {
-			.input = &empty, .nq = f->m, .px = f->qx, .py = f->qy, .pz = f->qz, .radius = RADIUS,
+			.input = &empty, .nq = f->m, .px = f->qx, .py = f->qy, .pz = f->qz, .sx = f->nx, .sy = f->ny,
+			.sz = f->nz, .depth = f->depth, .radius = RADIUS,
 			.r = SPACING, .min_d2 = 0.0f, .eta = eta, .sum_alpha = sa, .ox = o[0], .oy = o[1], .oz = o[2],
 		};
 		if (dp_op_surface_data(ctx, &a, &err) != DP_OK)

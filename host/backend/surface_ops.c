@@ -8,13 +8,17 @@ dp_status dp_op_surface_data(dp_context *ctx, const dp_surface_data_args *a, dp_
 		return DP_OK;
 	}
 	dp_cl_grid_storage gs;
-	dp_cl_arg args[3 + DP_CL_GRID_NARGS + 8];
+	dp_cl_arg args[7 + DP_CL_GRID_NARGS + 8];
 	size_t qbytes = a->nq * sizeof(float);
 	args[0] = DP_CL_IN(a->px, qbytes);
 	args[1] = DP_CL_IN(a->py, qbytes);
 	args[2] = DP_CL_IN(a->pz, qbytes);
-	dp_cl_grid_args(a->input, &gs, args + 3);
-	size_t k = 3 + DP_CL_GRID_NARGS;
+	args[3] = DP_CL_IN(a->sx, qbytes);
+	args[4] = DP_CL_IN(a->sy, qbytes);
+	args[5] = DP_CL_IN(a->sz, qbytes);
+	args[6] = DP_CL_IN(a->depth, qbytes);
+	dp_cl_grid_args(a->input, &gs, args + 7);
+	size_t k = 7 + DP_CL_GRID_NARGS;
 	args[k++] = DP_CL_VALUE(a->radius);
 	args[k++] = DP_CL_VALUE(a->r);
 	args[k++] = DP_CL_VALUE(a->min_d2);
@@ -34,7 +38,7 @@ dp_status dp_op_surface_neighbour(dp_context *ctx, const dp_surface_neighbour_ar
 		return DP_OK;
 	}
 	dp_cl_grid_storage gs;
-	dp_cl_arg args[7 + DP_CL_GRID_NARGS + 15];
+	dp_cl_arg args[7 + DP_CL_GRID_NARGS + 19];
 	size_t qbytes = a->nq * sizeof(float);
 	args[0] = DP_CL_IN(a->px, qbytes);
 	args[1] = DP_CL_IN(a->py, qbytes);
@@ -45,11 +49,16 @@ dp_status dp_op_surface_neighbour(dp_context *ctx, const dp_surface_neighbour_ar
 	args[6] = DP_CL_IN(a->len, qbytes);
 	dp_cl_grid_args(a->surface, &gs, args + 7);
 	size_t k = 7 + DP_CL_GRID_NARGS;
-	args[k++] = DP_CL_IN(a->glen, a->surface->n * sizeof(float));
+	size_t gbytes = a->surface->n * sizeof(float);
+	args[k++] = DP_CL_IN(a->glen, gbytes);
+	args[k++] = DP_CL_IN(a->gnx, gbytes);
+	args[k++] = DP_CL_IN(a->gny, gbytes);
+	args[k++] = DP_CL_IN(a->gnz, gbytes);
 	args[k++] = DP_CL_VALUE(a->radius);
 	args[k++] = DP_CL_VALUE(a->r);
 	args[k++] = DP_CL_VALUE(a->min_d2);
 	args[k++] = DP_CL_VALUE(a->tfloor);
+	args[k++] = DP_CL_VALUE(a->side_cos);
 	args[k++] = DP_CL_OUT(a->L, qbytes);
 	args[k++] = DP_CL_OUT(a->var, qbytes);
 	args[k++] = DP_CL_OUT(a->rx, qbytes);
@@ -70,15 +79,22 @@ dp_status dp_op_surface_covariance(dp_context *ctx, const dp_surface_covariance_
 		return DP_OK;
 	}
 	dp_cl_grid_storage gs;
-	dp_cl_arg args[3 + DP_CL_GRID_NARGS + 3];
-	size_t qbytes = a->nq * sizeof(float);
+	dp_cl_arg args[6 + DP_CL_GRID_NARGS + 7];
+	size_t qbytes = a->nq * sizeof(float), gbytes = a->surface->n * sizeof(float);
 	args[0] = DP_CL_IN(a->px, qbytes);
 	args[1] = DP_CL_IN(a->py, qbytes);
 	args[2] = DP_CL_IN(a->pz, qbytes);
-	dp_cl_grid_args(a->surface, &gs, args + 3);
-	size_t k = 3 + DP_CL_GRID_NARGS;
+	args[3] = DP_CL_IN(a->nx, qbytes);
+	args[4] = DP_CL_IN(a->ny, qbytes);
+	args[5] = DP_CL_IN(a->nz, qbytes);
+	dp_cl_grid_args(a->surface, &gs, args + 6);
+	size_t k = 6 + DP_CL_GRID_NARGS;
+	args[k++] = DP_CL_IN(a->gnx, gbytes);
+	args[k++] = DP_CL_IN(a->gny, gbytes);
+	args[k++] = DP_CL_IN(a->gnz, gbytes);
 	args[k++] = DP_CL_VALUE(a->radius);
 	args[k++] = DP_CL_VALUE(a->r);
+	args[k++] = DP_CL_VALUE(a->side_cos);
 	args[k++] = DP_CL_OUT(a->cov, 6 * qbytes);
 	return dp_cl_launch(&ctx->cl, "surface_covariance", a->nq, args, k, err);
 }

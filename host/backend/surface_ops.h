@@ -13,7 +13,10 @@
 #include "grid/grid.h"
 
 /* The data term over the input C. For each query p_i, over the input points
- * c_j of the grid with d = |p_i - c_j| < radius (the set C_i):
+ * c_j of the grid with d = |p_i - c_j| < radius and on the query's own side,
+ * (c_j - p_i)·s_i + depth_i > 0 (the set C_i; with s_i the dpoint orientation
+ * m_i and depth_i its length, input behind the inner end q_i, the far side of
+ * a part thinner than the radius, does not count; s = 0, depth > 0 admits all):
  *   eta[i]       = 1 + Σ θ(d)                 every pair (η, input support)
  *   sum_alpha[i] = Σ α_ij, α_ij = θ(d)/(d/r)  pairs with d² >= min_d2 only
  *   o[i]         = Σ α_ij (c_j - p_i) / Σ α_ij, or 0 when Σ α_ij = 0:
@@ -22,7 +25,7 @@
 typedef struct dp_surface_data_args {
 	const dp_grid *input;
 	size_t nq;
-	const float *px, *py, *pz;
+	const float *px, *py, *pz, *sx, *sy, *sz, *depth;
 	float radius, r, min_d2;
 	float *eta, *sum_alpha, *ox, *oy, *oz;
 } dp_surface_data_args;
@@ -32,7 +35,9 @@ dp_status dp_op_surface_data(dp_context *ctx, const dp_surface_data_args *a, dp_
 
 /* The surface neighbourhood P_i. For each query p_i with unit normal n_i and
  * dpoint length len_i, over the surface points p_k of the grid (dpoint
- * lengths glen[k], sorted order) with d = |p_i - p_k| < radius:
+ * lengths glen[k] and normals gn[k], sorted order) with d = |p_i - p_k| <
+ * radius and n_i·gn_k > side_cos (same-sided: -2 admits every neighbour, 0
+ * drops the far side of a thin part, whose normals face away):
  *   L[i]   = Σ θ(d) glen_k / Σ θ(d)                     every pair (P_i holds p_i)
  *   var[i] = variance of {glen_k / r} over the same pairs (unweighted, in r²;
  *            summed as differences to len_i so the float sums stay exact)
@@ -45,10 +50,10 @@ dp_status dp_op_surface_data(dp_context *ctx, const dp_surface_data_args *a, dp_
  *            P_i (the membrane pull of the minimal-volume prior)   every pair */
 typedef struct dp_surface_neighbour_args {
 	const dp_grid *surface;
-	const float *glen;
+	const float *glen, *gnx, *gny, *gnz;
 	size_t nq;
 	const float *px, *py, *pz, *nx, *ny, *nz, *len;
-	float radius, r, min_d2, tfloor;
+	float radius, r, min_d2, tfloor, side_cos;
 	float *L, *var, *rx, *ry, *rz, *nn, *mx, *my, *mz;
 } dp_surface_neighbour_args;
 
@@ -56,15 +61,17 @@ void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a);
 dp_status dp_op_surface_neighbour(dp_context *ctx, const dp_surface_neighbour_args *a, dp_error *err);
 
 /* The covariance of the surface points around each query p_i for its PCA
- * normal: over the grid points p_k with d = |p_i - p_k| < radius (p_i itself
- * included, uniform weights), with offsets e_k = (p_k - p_i)/r,
+ * normal: over the grid points p_k with d = |p_i - p_k| < radius and
+ * n_i·gn_k > side_cos as above (p_i itself included, uniform weights), with
+ * offsets e_k = (p_k - p_i)/r,
  *   cov[6*i + ...] = Σ e eᵀ/N - ē ēᵀ as (xx, xy, xz, yy, yz, zz), in r²;
  * all zero when N = 0. */
 typedef struct dp_surface_covariance_args {
 	const dp_grid *surface;
+	const float *gnx, *gny, *gnz;
 	size_t nq;
-	const float *px, *py, *pz;
-	float radius, r;
+	const float *px, *py, *pz, *nx, *ny, *nz;
+	float radius, r, side_cos;
 	float *cov;
 } dp_surface_covariance_args;
 

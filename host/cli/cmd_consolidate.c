@@ -4,6 +4,7 @@
 #include "core/common.h"
 
 #include <errno.h>
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
@@ -74,6 +75,26 @@ static char *batch_dir(const char *outdir, const char *input, size_t index, char
 
 #define MAX_INPUTS 4096
 
+/* "N" (a count) or "Fx" (F times the input's points, F > 0). */
+static int parse_samples(const char *text, size_t *count, double *factor)
+{
+	char *end;
+	if (text[0] < '0' || text[0] > '9')
+		return -1;
+	double v = strtod(text, &end);
+	if ((end[0] == 'x' || end[0] == 'X') && end[1] == '\0') {
+		if (!(v > 0.0) || !isfinite(v))
+			return -1;
+		*factor = v;
+		return 0;
+	}
+	unsigned long long n = strtoull(text, &end, 10);
+	if (*end || n == 0)
+		return -1;
+	*count = (size_t)n;
+	return 0;
+}
+
 int dp_cmd_consolidate(int argc, char **argv)
 {
 	const char *cmd = "consolidate";
@@ -82,12 +103,16 @@ int dp_cmd_consolidate(int argc, char **argv)
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
 	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
+	int any_side = 0, old_orient = 0;
+	const char *samples = NULL;
 	job.up_axis = 1;
 	double sigma_p = job.params.sink.sigma_p;
 	dp_params *p = &job.params;
 	cli_opt opts[] = {
 		{"--output", CLI_STRING, &outdir, "output folder (one sub-folder per input in a batch)", NULL, NULL},
-		{"--samples", CLI_SIZE, &p->wlop.samples, "number of deep points m (WLOP samples)", NULL, NULL},
+		{"--samples", CLI_STRING, &samples,
+		 "deep points m: a count, or Fx for F times the input's points (above the input: upsampling)", NULL,
+		 NULL},
 		{"--ratio", CLI_DOUBLE, &p->wlop.ratio, "m = ratio * input points, when --samples is not given", NULL,
 		 NULL},
 		{"--radius", CLI_DOUBLE, &p->wlop.h, "WLOP support radius h (0 = h-factor * initial sample spacing)",
@@ -153,6 +178,17 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "required relative growth of the mean spacing, or fall of its variation", NULL, NULL},
 		{"--tangent-floor", CLI_DOUBLE, &p->surface.tangent_floor_r,
 		 "smallest tangential distance in the repulsion weight, in r", NULL, NULL},
+		{"--no-same-side", CLI_FLAG, &any_side,
+		 "surface sums over whole balls (the paper) instead of the point's own side", NULL, NULL},
+		{"--no-dpoint-orient", CLI_FLAG, &old_orient,
+		 "sign PCA normals by the old normal instead of the dpoint orientation", NULL, NULL},
+		{"--coarse-samples", CLI_SIZE, &p->refine.coarse_samples,
+		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
+		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
+		 NULL},
+		{"--level-iters", CLI_INT, &p->refine.level_iters, "surface iterations per refined level", NULL, NULL},
+		{"--samples-floor", CLI_SIZE, &p->refine.samples_floor,
+		 "default count: max(ratio * input, this), at most the distinct input points", NULL, NULL},
 		{"--data-term", CLI_CHOICE, &data_term,
 		 "surface data term along the normal (DESIGN 4.3) or as Eq. 6 is printed", "normal|full", NULL},
 		CLI_BACKEND_OPTS(backend, device),
@@ -174,9 +210,16 @@ int dp_cmd_consolidate(int argc, char **argv)
 		fprintf(stderr, "dpoints %s: needs INPUT and -o OUTDIR (see dpoints %s --help)\n", cmd, cmd);
 		return DP_EXIT_INPUT;
 	}
+	if (samples && parse_samples(samples, &p->wlop.samples, &job.samples_factor)) {
+		fprintf(stderr, "dpoints %s: --samples: '%s' is neither a positive count nor a factor like 4x (see dpoints %s --help)\n",
+			cmd, samples, cmd);
+		return DP_EXIT_INPUT;
+	}
 	p->sink.sigma_p = p->surface.sigma_p = sigma_p;
 	p->surface.prior = (dp_surface_prior)prior;
 	p->surface.reattach = !no_reattach;
+	p->surface.same_side = !any_side;
+	p->surface.orient_by_dpoint = !old_orient;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
 	size_t failed = 0;

@@ -6,6 +6,7 @@
 /* What is the same for every input of a consolidate run (and the demo). */
 typedef struct dp_consolidate_job {
 	dp_params params;
+	double samples_factor; /* --samples Fx: F times each input's point count (0: not given) */
 	int save_stages, render, ascii;
 	int up_axis; /* vertical axis of the renders: 0 x, 1 y, 2 z */
 	const char *backend_name, *device_name;
@@ -18,6 +19,7 @@ typedef struct dp_consolidate_summary {
 	size_t points_in, points_out;
 	double r, seconds;
 	int iterations[4]; /* wlop, sink, skeleton, surface */
+	char capped[64];   /* the stages that stopped at their iteration cap, comma-separated, or "-" */
 } dp_consolidate_summary;
 
 /* Reads `input`, runs the pipeline and writes every output into `dir`

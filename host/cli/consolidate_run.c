@@ -2,6 +2,7 @@
 #include "cli/consolidate.h"
 #include "core/common.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -55,6 +56,18 @@ static void json_surface_params(json_writer *w, const dp_surface_params *p)
 	json_int(w, "window", p->window);
 	json_num(w, "min_drop", p->min_drop);
 	json_num(w, "min_growth", p->min_growth);
+	json_bool(w, "same_side", p->same_side);
+	json_bool(w, "orient_by_dpoint", p->orient_by_dpoint);
+	json_end_object(w);
+}
+
+static void json_refine_params(json_writer *w, const dp_refine_params *p)
+{
+	json_object(w, "refine");
+	json_int(w, "coarse_samples", (long long)p->coarse_samples);
+	json_num(w, "level_factor", p->level_factor);
+	json_int(w, "level_iters", p->level_iters);
+	json_int(w, "samples_floor", (long long)p->samples_floor);
 	json_end_object(w);
 }
 
@@ -74,6 +87,7 @@ static void fill_report(json_writer *w, const void *varg)
 	json_sink_params(w, &a->job->params.sink);
 	json_skeleton_params(w, &a->job->params.skeleton);
 	json_surface_params(w, &a->job->params.surface);
+	json_refine_params(w, &a->job->params.refine);
 	json_end_object(w);
 	json_object(w, "results");
 	json_int(w, "points_in", (long long)r->points_in);
@@ -113,8 +127,20 @@ static void fill_report(json_writer *w, const void *varg)
 	json_num(w, "last_mean_move_r", r->surface_stats.last_mean_move);
 	json_num(w, "spacing_growth", r->surface_stats.spacing_growth);
 	json_int(w, "reattached", (long long)r->surface_stats.reattached);
+	json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);
 	json_num(w, "seconds", r->surface_stats.seconds);
 	json_num(w, "pair_evaluations", r->surface_stats.pair_evaluations);
+	json_array(w, "levels");
+	for (int l = 0; l < r->levels; l++) {
+		json_object(w, NULL);
+		json_int(w, "points", (long long)r->level[l].points);
+		json_num(w, "r", r->level[l].r);
+		json_int(w, "iterations", r->level[l].iterations);
+		json_num(w, "seconds", r->level[l].seconds);
+		json_num(w, "pair_evaluations", r->level[l].pair_evaluations);
+		json_end_object(w);
+	}
+	json_end_array(w);
 	json_end_object(w);
 	json_num(w, "seconds_total", r->seconds_total);
 	json_end_object(w);
@@ -180,13 +206,33 @@ static dp_status write_outputs(const dp_consolidate_job *job, const dp_cloud *in
 	return DP_OK;
 }
 
+/* The stages of `r` that stopped at their iteration cap rather than on their
+ * test, comma-separated into `out` ("-" when none). A capped stage's output
+ * may be unfinished: say so. */
+static void capped_stages(const dp_result *r, char *out, size_t size)
+{
+	const char *names[4] = {"wlop", "sink", "skeleton", "surface"};
+	int capped[4] = {!r->wlop_stats.converged, r->sink_stats.unsettled > 0, !r->skeleton_stats.converged,
+			 !r->surface_stats.converged};
+	size_t len = 0;
+	out[0] = '\0';
+	for (int k = 0; k < 4; k++)
+		if (capped[k])
+			len += (size_t)snprintf(out + len, size - len, "%s%s", len ? "," : "", names[k]);
+	if (!len)
+		snprintf(out, size, "-");
+}
+
 int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolidate_job *job, const dp_cloud *in,
 			     const char *label, const char *dir, dp_result *res, dp_consolidate_summary *summary)
 {
 	dp_error err = {0};
 	int rc;
 	summary->points_in = in->n;
-	if (dp_consolidate(ctx, in, &job->params, res, &err) != DP_OK) {
+	dp_params params = job->params;
+	if (job->samples_factor > 0.0)
+		params.wlop.samples = (size_t)fmax(1.0, round(job->samples_factor * (double)in->n));
+	if (dp_consolidate(ctx, in, &params, res, &err) != DP_OK) {
 		dp_cli_name_input(&err, label);
 		goto fail;
 	}
@@ -208,6 +254,12 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 	summary->iterations[1] = res->sink_stats.iterations;
 	summary->iterations[2] = res->skeleton_stats.iterations;
 	summary->iterations[3] = res->surface_stats.iterations;
+	capped_stages(res, summary->capped, sizeof summary->capped);
+	if (strcmp(summary->capped, "-") != 0)
+		fprintf(stderr, "dpoints %s: %s: warning: stopped at the iteration cap before converging: %s "
+				"(report.json has the numbers; raise --wlop-iters, --sink-iters, --skeleton-iters or "
+				"--surface-iters)\n",
+			cmd, label, summary->capped);
 	printf("consolidate: %s: %zu points -> %zu deep points, r = %.6g; iterations wlop %d, sink %d (%zu unsettled), "
 	       "skeleton %d, surface %d; seconds wlop %.2f, normals %.2f, sink %.2f, skeleton %.2f, surface %.2f, "
 	       "total %.2f -> %s\n",
@@ -251,21 +303,21 @@ void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_c
 			width = (int)strlen(inputs[i]);
 	size_t ok = 0;
 	double seconds = 0.0;
-	fprintf(out, "\n%-*s %8s %8s %10s %18s %8s  %s\n", width, "input", "points", "dpoints", "r", "iters w/s/k/s",
-		"seconds", "status");
+	fprintf(out, "\n%-*s %8s %8s %10s %18s %8s %-24s  %s\n", width, "input", "points", "dpoints", "r",
+		"iters w/s/k/s", "seconds", "capped", "status");
 	for (size_t i = 0; i < n; i++) {
 		const dp_consolidate_summary *s = &rows[i];
 		if (s->ok) {
 			char iters[64];
 			snprintf(iters, sizeof iters, "%d/%d/%d/%d", s->iterations[0], s->iterations[1],
 				 s->iterations[2], s->iterations[3]);
-			fprintf(out, "%-*s %8zu %8zu %10.4g %18s %8.2f  ok\n", width, inputs[i], s->points_in,
-				s->points_out, s->r, iters, s->seconds);
+			fprintf(out, "%-*s %8zu %8zu %10.4g %18s %8.2f %-24s  ok\n", width, inputs[i], s->points_in,
+				s->points_out, s->r, iters, s->seconds, s->capped);
 			ok++;
 			seconds += s->seconds;
 		} else {
-			fprintf(out, "%-*s %8s %8s %10s %18s %8s  FAILED: %s\n", width, inputs[i], "-", "-", "-", "-", "-",
-				s->error);
+			fprintf(out, "%-*s %8s %8s %10s %18s %8s %-24s  FAILED: %s\n", width, inputs[i], "-", "-", "-",
+				"-", "-", "-", s->error);
 		}
 	}
 	fprintf(out, "%zu input%s: %zu ok, %zu failed; %.2f s in the pipeline\n", n, n == 1 ? "" : "s", ok, n - ok,

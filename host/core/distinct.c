@@ -1,8 +1,10 @@
 #include "core/distinct.h"
 
+
 #include "core/common.h"
 
 #include <stdlib.h>
+#include <string.h>
 
 typedef struct keyed_point {
 	float x, y, z;
@@ -48,5 +50,48 @@ dp_status dp_distinct(size_t n, const float *x, const float *y, const float *z, 
 		of[key[s].index] = first;
 	}
 	free(key);
+	return DP_OK;
+}
+
+/* A position's bits, with -0 as 0 since dp_distinct compares with ==. */
+static uint32_t position_hash(float x, float y, float z)
+{
+	float v[3] = {x == 0.0f ? 0.0f : x, y == 0.0f ? 0.0f : y, z == 0.0f ? 0.0f : z};
+	uint32_t b[3];
+	memcpy(b, v, sizeof b);
+	uint64_t h = (b[0] * 0x9E3779B97F4A7C15ull) ^ (b[1] * 0xC2B2AE3D27D4EB4Full) ^ (b[2] * 0x165667B19E3779F9ull);
+	return (uint32_t)(h ^ (h >> 29) ^ (h >> 41));
+}
+
+/* Counts distinct input positions, stopping at m: *found = min(m, distinct).
+ * A hash set of at most m positions, so an input of millions of copies of a
+ * few points (a well-formed file whose body is zeros) is refused after one
+ * pass in O(m) memory, before the buffers of the run and the O(n log n) sort
+ * and ~40 bytes a point of choose_samples. */
+dp_status dp_distinct_upto(const dp_cloud *in, size_t m, size_t *found, dp_error *err)
+{
+	size_t cap = 16;
+	while (cap < 2 * m)
+		cap *= 2;
+	uint32_t *slot = dp_alloc_array(cap, sizeof *slot);
+	if (!slot)
+		return dp_fail(err, DP_ERR_NOMEM, "out of memory counting distinct positions");
+	memset(slot, 0xff, cap * sizeof *slot);
+	size_t count = 0;
+	for (size_t i = 0; i < in->n && count < m; i++) {
+		size_t k = position_hash(in->x[i], in->y[i], in->z[i]) & (cap - 1);
+		for (;; k = (k + 1) & (cap - 1)) {
+			uint32_t j = slot[k];
+			if (j == UINT32_MAX) {
+				slot[k] = (uint32_t)i;
+				count++;
+				break;
+			}
+			if (in->x[j] == in->x[i] && in->y[j] == in->y[i] && in->z[j] == in->z[i])
+				break;
+		}
+	}
+	free(slot);
+	*found = count;
 	return DP_OK;
 }

@@ -11,4 +11,8 @@
 dp_status dp_distinct(size_t n, const float *x, const float *y, const float *z, uint32_t *of, size_t *ndistinct,
 		      dp_error *err);
 
+/* Counts distinct positions of `in`, stopping at m: *found = min(m, distinct).
+ * O(m) memory and one pass, so a huge input of copies is answered at once. */
+dp_status dp_distinct_upto(const dp_cloud *in, size_t m, size_t *found, dp_error *err);
+
 #endif

@@ -481,6 +481,11 @@ typedef struct dp_surface_params {
 	int reattach;             /* re-attach inner ends; default 1 */
 	double reattach_radius_r; /* re-attachment search radius around q_i, r; default 2 */
 	int max_iters;            /* iteration cap, >= 0; default 200 */
+	int same_side;            /* 1: every neighbour sum counts only the point's own side: input in front of
+	                             its inner end ((c - q)·m > 0), surface points with normals within 90°, so
+	                             parts thinner than σp r stay two-sided; 0: the paper's plain balls; default 1 */
+	int orient_by_dpoint;     /* 1: the PCA normal takes the sign of the dpoint orientation m = (p - q)/|p - q|,
+	                             outward by construction; 0: the sign of the old normal; default 1 */
 	int window;               /* iterations per compared block, >= 1; default 10 */
 	double min_drop;          /* relative fall of the mean move that keeps it going, in [0, 1); default 0.05 */
 	double min_growth;        /* relative growth of the spacing, or fall of its variation, that keeps it
@@ -495,6 +500,8 @@ typedef struct dp_surface_stats {
 	double last_mean_move;   /* mean move of the last iteration, in units of r */
 	double spacing_growth;   /* final / initial mean nearest-neighbour distance of P */
 	size_t reattached;       /* inner ends moved to another skeleton point, over all iterations */
+	size_t normals_disagreeing; /* last iteration: PCA normals that the old normal would have signed against
+	                               the dpoint orientation m (the flips orient_by_dpoint prevents) */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
 } dp_surface_stats;
@@ -525,6 +532,48 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 
 /* --------------------------------------------------------------- pipeline */
 
+/*
+ * Coarse-to-fine deep points. Completion spreads points into missing regions
+ * by tangential repulsion, which works like diffusion: a hole D r across
+ * needs on the order of D² iterations, so at a fixed iteration budget the
+ * completed fraction fell as the count grew (one-view sphere: 0.91 of the
+ * surface covered at 3000 deep points, 0.72 at 6000). dp_consolidate therefore
+ * runs WLOP, sinking, the meso-skeleton and the surface stage on
+ * coarse_samples deep points, where holes are few r across, then grows the
+ * set level by level, by level_factor per level, to the requested count: each
+ * level inserts surface points at the midpoints of the longest tangent-plane
+ * edges between same-sided neighbours (an inner end and a normal interpolated
+ * from the two ends) and relaxes the whole set for level_iters surface
+ * iterations at the level's own spacing r. Work grows about linearly with the
+ * count, coverage no longer depends on it, and the count may exceed the
+ * input's (upsampling, paper Fig. 15).
+ */
+#define DP_MAX_LEVELS 12
+
+typedef struct dp_refine_params {
+	size_t coarse_samples;    /* deep points of the coarse level; 0 = no refinement (everything at the
+	                             requested count); default 4000: a coarser level loses parts thinner than its
+	                             spacing (the demo chair at 1500: 0.065 diagonals off its surface, at 4000
+	                             0.010) */
+	double level_factor;      /* count growth per level, > 1 (midpoint insertion adds up to about 3 points
+	                             per point); default 4 */
+	int level_iters;          /* surface iterations relaxing each refined level, >= 1; default 15 */
+	size_t samples_floor;     /* with wlop.samples 0 the count is max(ratio |C|, samples_floor), at most the
+	                             input's distinct positions: 10% alone gave 75 deep points on a 750-point
+	                             scan, too few to mean anything; default 4000 */
+} dp_refine_params;
+
+void dp_refine_params_default(dp_refine_params *p);
+
+/* One level of the coarse-to-fine surface: its size and what relaxing it cost. */
+typedef struct dp_level_stats {
+	size_t points;
+	double r;                 /* the level's spacing (Eq. 1 over its surface points) */
+	int iterations;
+	double seconds;
+	double pair_evaluations;
+} dp_level_stats;
+
 /* Every parameter of the whole pipeline. Defaults are the paper's where it works as printed, else
  * the measured choice documented beside each field. */
 typedef struct dp_params {
@@ -533,24 +582,30 @@ typedef struct dp_params {
 	dp_sink_params sink;
 	dp_skeleton_params skeleton;
 	dp_surface_params surface;
+	dp_refine_params refine;
 } dp_params;
 
 void dp_params_default(dp_params *p);
 
 /*
- * Everything dp_consolidate makes. All clouds have the same count n = number
- * of WLOP samples and the same order: deep point i joins surface point i and
- * skeleton point i. Owned by the caller; release with dp_result_free.
+ * Everything dp_consolidate makes. surface, skeleton, eta and length have
+ * the deep-point count n in the same order: deep point i joins surface point
+ * i and skeleton point i. wlop and anchors belong to the coarse level (its
+ * n0 <= n points; n0 = n without refinement): rows 0..n0-1 of the other
+ * arrays are the deep points grown from them, the rest were inserted by the
+ * refined levels. Owned by the caller; release with dp_result_free.
  */
 typedef struct dp_result {
-	dp_cloud wlop;      /* S: WLOP samples with oriented normals */
+	dp_cloud wlop;      /* S: WLOP samples with oriented normals (coarse level) */
 	dp_cloud anchors;   /* H: settled inner points after sinking (with S's normals) */
 	dp_cloud skeleton;  /* Q: the meso-skeleton, inner ends of the deep points */
 	dp_cloud surface;   /* P: consolidated, completed surface with normals */
 	float *eta;         /* n: input support η of each surface point (1 = no input near) */
 	float *length;      /* n: dpoint length |p_i - q_i| */
-	double r;           /* mean NN spacing of S (paper Eq. 1), the unit of the later stages */
+	double r;           /* mean NN spacing of the final surface points (paper Eq. 1) */
 	size_t points_in;
+	int levels;         /* surface levels run: 1 = no refinement */
+	dp_level_stats level[DP_MAX_LEVELS]; /* level 0 is the coarse one */
 	dp_wlop_stats wlop_stats;
 	dp_sink_stats sink_stats;
 	dp_skeleton_stats skeleton_stats;

@@ -20,6 +20,8 @@ void dp_ref_surface_data(const dp_surface_data_args *a)
 				float d2 = dx * dx + dy * dy + dz * dz;
 				if (d2 >= rad2)
 					continue;
+				if (!(dx * a->sx[i] + dy * a->sy[i] + dz * a->sz[i] + a->depth[i] > 0.0f))
+					continue; /* behind the inner end: the far side of a thin part */
 				float theta = expf(-d2 * inv_r * inv_r);
 				eta += theta;
 				if (d2 < a->min_d2)
@@ -55,6 +57,8 @@ void dp_ref_surface_neighbour(const dp_surface_neighbour_args *a)
 				float dx = px - g->x[k], dy = py - g->y[k], dz = pz - g->z[k];
 				float d2 = dx * dx + dy * dy + dz * dz;
 				if (d2 >= rad2)
+					continue;
+				if (!(nx * a->gnx[k] + ny * a->gny[k] + nz * a->gnz[k] > a->side_cos))
 					continue;
 				float theta = expf(-d2 * inv_r * inv_r);
 				float dl = a->glen[k] - len;
@@ -105,6 +109,8 @@ void dp_ref_surface_covariance(const dp_surface_covariance_args *a)
 			for (uint32_t k = beg[row]; k < end[row]; k++) {
 				float dx = g->x[k] - px, dy = g->y[k] - py, dz = g->z[k] - pz;
 				if (dx * dx + dy * dy + dz * dz >= rad2)
+					continue;
+				if (!(a->nx[i] * a->gnx[k] + a->ny[i] * a->gny[k] + a->nz[i] * a->gnz[k] > a->side_cos))
 					continue;
 				dx *= inv_r;
 				dy *= inv_r;

@@ -1,7 +1,9 @@
 /* The whole pipeline (DESIGN 2): raw C -> WLOP S -> normals -> sinking H ->
  * meso-skeleton Q -> surface P. */
 #include "core/common.h"
+#include "core/distinct.h"
 #include "knn/knn.h"
+#include "stages/refine.h"
 #include "stages/input_check.h"
 
 #include <math.h>
@@ -15,6 +17,98 @@ void dp_params_default(dp_params *p)
 	dp_sink_params_default(&p->sink);
 	dp_skeleton_params_default(&p->skeleton);
 	dp_surface_params_default(&p->surface);
+	dp_refine_params_default(&p->refine);
+}
+
+void dp_refine_params_default(dp_refine_params *p)
+{
+	p->coarse_samples = 4000;
+	p->level_factor = 4.0;
+	p->level_iters = 15;
+	p->samples_floor = 4000;
+}
+
+/* The deep-point count: wlop.samples, or the default rule of
+ * dp_refine_params. */
+static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t *m, dp_error *err)
+{
+	if (p->wlop.samples) {
+		*m = p->wlop.samples;
+		return DP_OK;
+	}
+	size_t want = (size_t)llround(p->wlop.ratio * (double)input->n), distinct = 0;
+	if (want < p->refine.samples_floor)
+		want = p->refine.samples_floor;
+	dp_status st = dp_distinct_upto(input, want, &distinct, err);
+	if (st != DP_OK)
+		return st;
+	*m = want < distinct ? want : distinct;
+	return DP_OK;
+}
+
+static void add_level(dp_result *res, size_t points, double r, const dp_surface_stats *st)
+{
+	dp_level_stats *l = &res->level[res->levels++];
+	l->points = points;
+	l->r = r;
+	l->iterations = st->iterations;
+	l->seconds = st->seconds;
+	l->pair_evaluations = st->pair_evaluations;
+	dp_surface_stats *all = &res->surface_stats;
+	all->iterations += st->iterations;
+	all->seconds += st->seconds;
+	all->pair_evaluations += st->pair_evaluations;
+	all->reattached += st->reattached;
+	all->normals_disagreeing = st->normals_disagreeing;
+	all->last_mean_move = st->last_mean_move;
+}
+
+/* Copies the first n rows of src into dst, which has room for them. */
+static void copy_rows(dp_cloud *dst, const dp_cloud *src, size_t n)
+{
+	size_t bytes = n * sizeof(float);
+	memcpy(dst->x, src->x, bytes);
+	memcpy(dst->y, src->y, bytes);
+	memcpy(dst->z, src->z, bytes);
+	if (dst->nx && src->nx) {
+		memcpy(dst->nx, src->nx, bytes);
+		memcpy(dst->ny, src->ny, bytes);
+		memcpy(dst->nz, src->nz, bytes);
+	}
+	dst->n = n;
+}
+
+/* Levels 1.. of the coarse-to-fine surface: insert, then relax at the new
+ * spacing. `surface`, `skeleton` and `eta` have room for counts[levels-1]
+ * rows and hold the coarse level. */
+static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params *params, const size_t *counts,
+			int levels, dp_result *res, dp_error *err)
+{
+	dp_surface_params relax = params->surface;
+	relax.max_iters = params->refine.level_iters;
+	/* a fixed number of iterations: the stop test compares two windows */
+	relax.window = params->refine.level_iters;
+	dp_cloud out = {0};
+	for (int l = 1; l < levels; l++) {
+		size_t added = 0;
+		dp_status st = dp_refine_insert(&res->surface, &res->skeleton, counts[l], res->r, &added, err);
+		if (st == DP_OK && res->surface.n < counts[l])
+			st = dp_fail(err, DP_ERR_ARG, "refine: room for only %zu of %zu points", res->surface.n,
+				     counts[l]);
+		if (st == DP_OK)
+			st = dp_mean_spacing(res->surface.n, res->surface.x, res->surface.y, res->surface.z, &res->r,
+					     err);
+		dp_surface_stats sst = {0};
+		if (st == DP_OK)
+			st = dp_surface(ctx, input, &res->surface, &res->skeleton, res->r, &relax, &out, res->eta, &sst,
+					err);
+		if (st != DP_OK)
+			return st;
+		copy_rows(&res->surface, &out, out.n);
+		dp_cloud_free(&out);
+		add_level(res, res->surface.n, res->r, &sst);
+	}
+	return DP_OK;
 }
 
 void dp_result_free(dp_result *r)
@@ -58,7 +152,17 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		return DP_ERR_ARG;
 	double t_start = dp_seconds();
 	res->points_in = input->n;
-	dp_status st = dp_wlop(ctx, input, &params->wlop, &res->wlop, &res->wlop_stats, err);
+	size_t target = 0, counts[DP_MAX_LEVELS];
+	dp_status st = target_count(input, params, &target, err);
+	if (st != DP_OK) {
+		in_stage(err, st, "deep-point count");
+		goto fail;
+	}
+	int levels = dp_refine_levels(params->refine.coarse_samples, target, params->refine.level_factor, counts,
+				      DP_MAX_LEVELS);
+	dp_wlop_params wp = params->wlop;
+	wp.samples = counts[0];
+	st = dp_wlop(ctx, input, &wp, &res->wlop, &res->wlop_stats, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "wlop");
 		goto fail;
@@ -88,17 +192,36 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "skeleton");
 		goto fail;
 	}
-	size_t n = res->wlop.n;
+	size_t n = target, n0 = res->wlop.n;
+	dp_cloud coarse = {0}, inner = {0};
+	dp_surface_stats sst = {0};
 	res->eta = dp_alloc_array(n, sizeof(float));
 	res->length = dp_alloc_array(n, sizeof(float));
-	if (!res->eta || !res->length) {
+	if (!res->eta || !res->length || dp_cloud_alloc(&res->surface, n, 1, err) != DP_OK ||
+	    dp_cloud_alloc(&inner, n, 1, err) != DP_OK) {
+		dp_cloud_free(&inner);
 		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu deep points", n);
 		goto fail;
 	}
-	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, res->r, &params->surface, &res->surface, res->eta,
-			&res->surface_stats, err);
+	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, res->r, &params->surface, &coarse, res->eta, &sst,
+			err);
+	if (st == DP_OK) {
+		copy_rows(&res->surface, &coarse, n0);
+		copy_rows(&inner, &res->skeleton, n0);
+		add_level(res, n0, res->r, &sst);
+		res->surface_stats.converged = sst.converged;
+		res->surface_stats.spacing_growth = sst.spacing_growth;
+	}
+	dp_cloud_free(&coarse);
+	dp_cloud_free(&res->skeleton);
+	res->skeleton = inner;
 	if (st != DP_OK) {
 		in_stage(err, st, "surface");
+		goto fail;
+	}
+	st = refine(ctx, input, params, counts, levels, res, err);
+	if (st != DP_OK) {
+		in_stage(err, st, "refine");
 		goto fail;
 	}
 	for (size_t i = 0; i < n; i++) {

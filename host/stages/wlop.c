@@ -71,49 +71,6 @@ static dp_status check_input(const dp_cloud *in, dp_error *err)
 	return dp_check_span("wlop", in->n, in->x, in->y, in->z, err);
 }
 
-/* A position's bits, with -0 as 0 since dp_distinct compares with ==. */
-static uint32_t position_hash(float x, float y, float z)
-{
-	float v[3] = {x == 0.0f ? 0.0f : x, y == 0.0f ? 0.0f : y, z == 0.0f ? 0.0f : z};
-	uint32_t b[3];
-	memcpy(b, v, sizeof b);
-	uint64_t h = (b[0] * 0x9E3779B97F4A7C15ull) ^ (b[1] * 0xC2B2AE3D27D4EB4Full) ^ (b[2] * 0x165667B19E3779F9ull);
-	return (uint32_t)(h ^ (h >> 29) ^ (h >> 41));
-}
-
-/* Counts distinct input positions, stopping at m: *found = min(m, distinct).
- * A hash set of at most m positions, so an input of millions of copies of a
- * few points (a well-formed file whose body is zeros) is refused after one
- * pass in O(m) memory, before the buffers of the run and the O(n log n) sort
- * and ~40 bytes a point of choose_samples. */
-static dp_status count_distinct_upto(const dp_cloud *in, size_t m, size_t *found, dp_error *err)
-{
-	size_t cap = 16;
-	while (cap < 2 * m)
-		cap *= 2;
-	uint32_t *slot = dp_alloc_array(cap, sizeof *slot);
-	if (!slot)
-		return dp_fail(err, DP_ERR_NOMEM, "wlop: out of memory counting distinct positions");
-	memset(slot, 0xff, cap * sizeof *slot);
-	size_t count = 0;
-	for (size_t i = 0; i < in->n && count < m; i++) {
-		size_t k = position_hash(in->x[i], in->y[i], in->z[i]) & (cap - 1);
-		for (;; k = (k + 1) & (cap - 1)) {
-			uint32_t j = slot[k];
-			if (j == UINT32_MAX) {
-				slot[k] = (uint32_t)i;
-				count++;
-				break;
-			}
-			if (in->x[j] == in->x[i] && in->y[j] == in->y[i] && in->z[j] == in->z[i])
-				break;
-		}
-	}
-	free(slot);
-	*found = count;
-	return DP_OK;
-}
-
 /* m distinct input positions at random: a partial Fisher–Yates shuffle of the
  * indices that passes over points repeating an earlier pick's position. Two
  * samples at one position would skip each other's repulsion (d² < min_d2)
@@ -337,7 +294,7 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 	if (input->n > UINT32_MAX)
 		return dp_fail(err, DP_ERR_ARG, "wlop: %zu points exceed the 32-bit index range", input->n);
 	size_t ndistinct;
-	if ((st = count_distinct_upto(input, m, &ndistinct, err)) != DP_OK)
+	if ((st = dp_distinct_upto(input, m, &ndistinct, err)) != DP_OK)
 		return st;
 	if (ndistinct < m)
 		return dp_fail(err, DP_ERR_ARG, "wlop: the input has %zu distinct position%s, fewer than %zu samples",

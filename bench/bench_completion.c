@@ -1,0 +1,335 @@
+/* Completion quality at the library's defaults, as JSON lines: the numbers
+ * by which coarse-to-fine deep points, deep-point orientation and same-sided
+ * neighbourhoods are judged (README "Results measured here").
+ *
+ *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S]
+ *
+ * Cases (all by default):
+ *   sphere   one view of the built-in sphere at each --samples count (default
+ *            2000,8000,32000): coverage, and the surface stage's seconds and
+ *            pair evaluations per level, so its growth with the count shows;
+ *   bunny1, bunny2  the real Stanford bunny, bun000 alone and bun000 +
+ *            bun180 in the ground-truth frame, at the default deep-point count;
+ *   chair    the demo's chair (two views, 256 x 256 rays, noise 0.003);
+ *   rods     the built-in thin-part shape scanned from two sides: surface and
+ *            skeleton distances in r;
+ *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps.
+ * Real-data cases are skipped with a message when the data folder is absent.
+ * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
+#include "dpoints.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define DEFAULT_SAMPLES "2000,8000,32000"
+#define MAX_SIZES 8
+#define NOISE 0.003
+/* One-view sphere scans keep about 4 raw points per deep point. */
+#define SPHERE_RES_PER_SQRT_SAMPLE 4.13
+#define CHAIR_VIEWS 2
+#define CHAIR_RES 256
+
+typedef struct options {
+	const char *cases;
+	size_t samples[MAX_SIZES];
+	int nsizes;
+	const char *data;
+	const char *device;
+	uint64_t seed;
+} options;
+
+static int wanted(const options *o, const char *name)
+{
+	size_t len = strlen(name);
+	for (const char *c = o->cases; (c = strstr(c, name)) != NULL; c += len)
+		if ((c == o->cases || c[-1] == ',') && (c[len] == ',' || c[len] == '\0'))
+			return 1;
+	return 0;
+}
+
+static void print_stages(const dp_result *res)
+{
+	printf(",\"samples\":%zu,\"r\":%.6g,\"levels\":%d,\"seconds\":{\"wlop\":%.3f,\"sink\":%.3f,\"skeleton\":%.3f,"
+	       "\"surface\":%.3f,\"total\":%.3f},\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
+	       "\"capped\":{\"wlop\":%s,\"sink\":%s,\"skeleton\":%s,\"surface\":%s},\"surface_pairs\":%.4g,"
+	       "\"normals_disagreeing\":%zu",
+	       res->surface.n, res->r, res->levels, res->wlop_stats.seconds, res->sink_stats.seconds,
+	       res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,
+	       res->wlop_stats.iterations, res->sink_stats.iterations, res->skeleton_stats.iterations,
+	       res->surface_stats.iterations, res->wlop_stats.converged ? "false" : "true",
+	       res->sink_stats.unsettled ? "true" : "false", res->skeleton_stats.converged ? "false" : "true",
+	       res->surface_stats.converged ? "false" : "true", res->surface_stats.pair_evaluations,
+	       res->surface_stats.normals_disagreeing);
+}
+
+static void print_eval(const char *name, const dp_eval_result *e)
+{
+	printf(",\"%s\":{\"points\":%zu,\"accuracy_mean\":%.5f,\"accuracy_p95\":%.5f,\"coverage\":%.4f,"
+	       "\"spacing_cv\":%.4f",
+	       name, e->points, e->accuracy_mean, e->accuracy_p95, e->coverage, e->spacing_cv);
+	if (e->has_normals)
+		printf(",\"normal_angle_deg\":%.3f,\"normal_flipped\":%.4f", e->normal_angle_deg, e->normal_flipped);
+	printf("}");
+}
+
+/* The surface points without input support (η ≤ SUPPORTED_ETA): the
+ * completed regions, where the method guesses. */
+#define SUPPORTED_ETA 2.0f
+static dp_status unsupported(const dp_result *res, dp_cloud *out, dp_error *err)
+{
+	size_t n = 0;
+	for (size_t i = 0; i < res->surface.n; i++)
+		n += res->eta[i] <= SUPPORTED_ETA;
+	dp_status st = dp_cloud_alloc(out, n, 1, err);
+	const dp_cloud *s = &res->surface;
+	for (size_t i = 0, j = 0; st == DP_OK && i < s->n; i++) {
+		if (res->eta[i] > SUPPORTED_ETA)
+			continue;
+		out->x[j] = s->x[i], out->y[j] = s->y[i], out->z[j] = s->z[i];
+		out->nx[j] = s->nx[i], out->ny[j] = s->ny[i], out->nz[j] = s->nz[i];
+		j++;
+	}
+	return st;
+}
+
+/* Consolidates `in`, evaluates input and surface against `mesh`, prints one
+ * line. `samples` 0 keeps the library's default count. */
+static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp_cloud *in, size_t samples)
+{
+	dp_error err = {0};
+	dp_params p;
+	dp_params_default(&p);
+	if (samples)
+		p.wlop.samples = samples;
+	dp_result res = {0};
+	dp_cloud guessed = {0};
+	dp_eval_result ei, es, eg;
+	int rc = -1;
+	if (dp_consolidate(ctx, in, &p, &res, &err) != DP_OK || dp_eval(mesh, in, NULL, &ei, &err) != DP_OK ||
+	    dp_eval(mesh, &res.surface, NULL, &es, &err) != DP_OK || unsupported(&res, &guessed, &err) != DP_OK)
+		goto out;
+	printf("{\"bench\":\"completion\",\"case\":\"%s\",\"raw\":%zu", name, in->n);
+	print_stages(&res);
+	print_eval("input", &ei);
+	print_eval("surface", &es);
+	if (guessed.n >= 2 && dp_eval(mesh, &guessed, NULL, &eg, &err) == DP_OK)
+		print_eval("surface_unsupported", &eg);
+	printf(",\"levels_detail\":[");
+	for (int l = 0; l < res.levels; l++)
+		printf("%s{\"points\":%zu,\"r\":%.5g,\"iterations\":%d,\"seconds\":%.3f,\"pairs\":%.4g}",
+		       l ? "," : "", res.level[l].points, res.level[l].r, res.level[l].iterations, res.level[l].seconds,
+		       res.level[l].pair_evaluations);
+	printf("]}\n");
+	fflush(stdout);
+	rc = 0;
+out:
+	if (rc)
+		fprintf(stderr, "bench_completion: %s: %s\n", name, err.message);
+	dp_result_free(&res);
+	dp_cloud_free(&guessed);
+	return rc;
+}
+
+static int shape_scan(const char *shape, int views, int res_rays, uint64_t seed, dp_cloud *mesh, dp_cloud *scan,
+		      dp_error *err)
+{
+	dp_shape s;
+	dp_scan_params sp;
+	dp_scan_params_default(&sp);
+	sp.views = views;
+	sp.res = res_rays;
+	sp.noise = NOISE;
+	sp.normals = 0;
+	sp.seed = seed;
+	if (dp_shape_default(shape, &s, err) != DP_OK || dp_shape_mesh(&s, mesh, err) != DP_OK ||
+	    dp_scan(mesh, &sp, scan, NULL, err) != DP_OK)
+		return -1;
+	return 0;
+}
+
+static int run_shape(dp_context *ctx, const char *shape, int views, int res_rays, size_t samples, const options *o,
+		     const char *name)
+{
+	dp_error err = {0};
+	dp_cloud mesh = {0}, scan = {0};
+	int rc = shape_scan(shape, views, res_rays, o->seed, &mesh, &scan, &err);
+	if (rc)
+		fprintf(stderr, "bench_completion: %s: %s\n", name, err.message);
+	else
+		rc = run(ctx, name, &mesh, &scan, samples);
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&scan);
+	return rc;
+}
+
+/* bun.conf's `bmesh NAME tx ty tz qx qy qz qw`: world = R(q)ᵀ p + t. */
+static int read_view(const char *dir, const char *name, dp_cloud *view)
+{
+	char path[4096], line[512], file[256];
+	double t[3], q[4];
+	int found = 0;
+	snprintf(path, sizeof path, "%s/stanford-bunny/bun.conf", dir);
+	FILE *f = fopen(path, "r");
+	if (!f)
+		return -1;
+	while (!found && fgets(line, sizeof line, f))
+		found = sscanf(line, "bmesh %255s %lf %lf %lf %lf %lf %lf %lf", file, &t[0], &t[1], &t[2], &q[0], &q[1],
+			       &q[2], &q[3]) == 8 &&
+			strcmp(file, name) == 0;
+	fclose(f);
+	dp_error err = {0};
+	snprintf(path, sizeof path, "%s/stanford-bunny/%s", dir, name);
+	if (!found || dp_cloud_read(path, view, DP_READ_POINTS, &err) != DP_OK)
+		return -1;
+	double x = q[0], y = q[1], z = q[2], w = q[3];
+	double m[3][3] = {
+		{1 - 2 * (y * y + z * z), 2 * (x * y + z * w), 2 * (x * z - y * w)},
+		{2 * (x * y - z * w), 1 - 2 * (x * x + z * z), 2 * (y * z + x * w)},
+		{2 * (x * z + y * w), 2 * (y * z - x * w), 1 - 2 * (x * x + y * y)},
+	};
+	for (size_t i = 0; i < view->n; i++) {
+		double v[3] = {view->x[i], view->y[i], view->z[i]};
+		view->x[i] = (float)(m[0][0] * v[0] + m[0][1] * v[1] + m[0][2] * v[2] + t[0]);
+		view->y[i] = (float)(m[1][0] * v[0] + m[1][1] * v[1] + m[1][2] * v[2] + t[1]);
+		view->z[i] = (float)(m[2][0] * v[0] + m[2][1] * v[1] + m[2][2] * v[2] + t[2]);
+	}
+	return 0;
+}
+
+static int run_bunny(dp_context *ctx, const options *o, int views)
+{
+	const char *names[2] = {"bun000.ply", "bun180.ply"};
+	dp_cloud mesh = {0}, v[2] = {{0}, {0}}, both = {0};
+	dp_error err = {0};
+	char path[4096];
+	snprintf(path, sizeof path, "%s/stanford-bunny/bun_zipper_res2.ply", o->data);
+	int rc = 0;
+	if (dp_cloud_read(path, &mesh, DP_READ_MESH, &err) != DP_OK) {
+		fprintf(stderr, "bench_completion: bunny skipped: %s\n", err.message);
+		return 0;
+	}
+	for (int i = 0; i < views; i++)
+		if (read_view(o->data, names[i], &v[i])) {
+			fprintf(stderr, "bench_completion: bunny skipped: cannot read %s with its pose\n", names[i]);
+			goto out;
+		}
+	const dp_cloud *in = &v[0];
+	if (views == 2) {
+		if (dp_cloud_alloc(&both, v[0].n + v[1].n, 0, &err) != DP_OK) {
+			rc = -1;
+			goto out;
+		}
+		for (size_t i = 0; i < both.n; i++) {
+			const dp_cloud *s = i < v[0].n ? &v[0] : &v[1];
+			size_t j = i < v[0].n ? i : i - v[0].n;
+			both.x[i] = s->x[j], both.y[i] = s->y[j], both.z[i] = s->z[j];
+		}
+		in = &both;
+	}
+	rc = run(ctx, views == 1 ? "bunny_one_view" : "bunny_two_views", &mesh, in, 0);
+out:
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&v[0]);
+	dp_cloud_free(&v[1]);
+	dp_cloud_free(&both);
+	return rc;
+}
+
+static int run_statue(dp_context *ctx, const options *o)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s/paper/statue-fig12b-raw.xyz", o->data);
+	dp_cloud in = {0};
+	dp_error err = {0};
+	if (dp_cloud_read(path, &in, DP_READ_POINTS, &err) != DP_OK) {
+		fprintf(stderr, "bench_completion: statue skipped: %s\n", err.message);
+		return 0;
+	}
+	dp_params p;
+	dp_params_default(&p);
+	dp_result res = {0};
+	int rc = -1;
+	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK) {
+		printf("{\"bench\":\"completion\",\"case\":\"statue\",\"raw\":%zu", in.n);
+		print_stages(&res);
+		printf("}\n");
+		rc = 0;
+	} else {
+		fprintf(stderr, "bench_completion: statue: %s\n", err.message);
+	}
+	dp_result_free(&res);
+	dp_cloud_free(&in);
+	return rc;
+}
+
+static int parse(int argc, char **argv, options *o)
+{
+	const char *sizes = DEFAULT_SAMPLES;
+	o->cases = "sphere,bunny1,bunny2,chair,rods,statue";
+	o->data = getenv("DP_DATA_DIR") ? getenv("DP_DATA_DIR") : "../shared/data";
+	o->device = NULL;
+	o->seed = 7;
+	for (int i = 1; i + 1 < argc; i += 2) {
+		if (!strcmp(argv[i], "--case"))
+			o->cases = argv[i + 1];
+		else if (!strcmp(argv[i], "--samples"))
+			sizes = argv[i + 1];
+		else if (!strcmp(argv[i], "--data"))
+			o->data = argv[i + 1];
+		else if (!strcmp(argv[i], "--device"))
+			o->device = argv[i + 1];
+		else if (!strcmp(argv[i], "--seed"))
+			o->seed = strtoull(argv[i + 1], NULL, 10);
+		else
+			return -1;
+	}
+	if (argc % 2 == 0)
+		return -1;
+	o->nsizes = 0;
+	while (*sizes && o->nsizes < MAX_SIZES) {
+		char *end;
+		unsigned long long m = strtoull(sizes, &end, 10);
+		if (m < 2 || (*end && *end != ','))
+			return -1;
+		o->samples[o->nsizes++] = (size_t)m;
+		sizes = *end ? end + 1 : end;
+	}
+	return o->nsizes ? 0 : -1;
+}
+
+int main(int argc, char **argv)
+{
+	options o;
+	if (parse(argc, argv, &o)) {
+		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue] "
+				"[--samples M,...] [--data DIR] [--device D] [--seed S]\n");
+		return 2;
+	}
+	dp_context *ctx = NULL;
+	dp_error err = {0};
+	if (dp_context_create(&ctx, DP_BACKEND_CL, o.device, &err) != DP_OK) {
+		fprintf(stderr, "bench_completion: %s\n", err.message);
+		return 1;
+	}
+	int rc = 0;
+	for (int i = 0; wanted(&o, "sphere") && i < o.nsizes; i++) {
+		int res_rays = (int)lround(SPHERE_RES_PER_SQRT_SAMPLE * sqrt((double)o.samples[i]));
+		char name[64];
+		snprintf(name, sizeof name, "one_view_sphere_%zu", o.samples[i]);
+		rc |= run_shape(ctx, "sphere", 1, res_rays, o.samples[i], &o, name);
+	}
+	if (wanted(&o, "bunny1"))
+		rc |= run_bunny(ctx, &o, 1);
+	if (wanted(&o, "bunny2"))
+		rc |= run_bunny(ctx, &o, 2);
+	if (wanted(&o, "chair"))
+		rc |= run_shape(ctx, "chair", CHAIR_VIEWS, CHAIR_RES, 0, &o, "chair");
+	if (wanted(&o, "rods"))
+		rc |= run_shape(ctx, "rods", 2, CHAIR_RES, 0, &o, "rods");
+	if (wanted(&o, "statue"))
+		rc |= run_statue(ctx, &o);
+	dp_context_free(ctx);
+	return rc ? 1 : 0;
+}

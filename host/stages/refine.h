@@ -1,0 +1,25 @@
+/* Point insertion of the coarse-to-fine surface (dpoints.h, dp_refine_params). */
+#ifndef DP_STAGES_REFINE_H
+#define DP_STAGES_REFINE_H
+
+#include "dpoints.h"
+
+/*
+ * Grows the deep points (`surface` with normals, `skeleton` its inner ends,
+ * both with room for `target` rows; their n is the count in use) towards
+ * `target` by inserting one point at the midpoint of each of the longest
+ * tangent-plane edges between same-sided neighbours, skipping midpoints
+ * nearer than a fraction of r to a point already there. Existing rows keep
+ * their index; new rows are appended. r is the current spacing. Several
+ * passes may be needed, as one pass adds at most about 3 points per point;
+ * stops early only when a pass finds nowhere to insert. *added receives how
+ * many were inserted.
+ */
+dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target, double r, size_t *added,
+			   dp_error *err);
+
+/* The count of each level: `levels` (>= 1) levels from coarse to target with
+ * the same growth factor each, counts[levels - 1] = target. */
+int dp_refine_levels(size_t coarse, size_t target, double level_factor, size_t *counts, int max_levels);
+
+#endif
