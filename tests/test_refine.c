@@ -1,0 +1,200 @@
+/* Coarse-to-fine deep points: the level counts, the midpoint insertion on
+ * shapes with a known answer, and the whole pipeline growing a coarse level
+ * past the input's own count (upsampling) with every output in step. */
+#include "testkit.h"
+
+#include "knn/knn.h"
+#include "stages/refine.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define SPHERE_POINTS 600
+
+static void test_levels(void **state)
+{
+	(void)state;
+	size_t c[DP_MAX_LEVELS];
+	/* no refinement below the coarse count, or when it is off */
+	assert_int_equal(dp_refine_levels(4000, 2000, 4.0, c, DP_MAX_LEVELS), 1);
+	assert_int_equal(c[0], 2000);
+	assert_int_equal(dp_refine_levels(0, 9000, 4.0, c, DP_MAX_LEVELS), 1);
+	/* 1000 -> 32000 at factor 4: three equal steps of 32^(1/3) */
+	assert_int_equal(dp_refine_levels(1000, 32000, 4.0, c, DP_MAX_LEVELS), 4);
+	assert_int_equal(c[0], 1000);
+	assert_int_equal(c[3], 32000);
+	for (int l = 1; l < 4; l++)
+		assert_true(fabs((double)c[l] / (double)c[l - 1] - cbrt(32.0)) < 0.01);
+	/* exactly one factor: one step */
+	assert_int_equal(dp_refine_levels(1000, 4000, 4.0, c, DP_MAX_LEVELS), 2);
+}
+
+/* n Fibonacci points on the unit sphere with outward normals, and inner ends
+ * at half the radius. */
+static void fibonacci_sphere(size_t n, size_t cap, dp_cloud *s, dp_cloud *k)
+{
+	dp_error err = {0};
+	if (dp_cloud_alloc(s, cap, 1, &err) != DP_OK || dp_cloud_alloc(k, cap, 1, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	double golden = M_PI * (3.0 - sqrt(5.0));
+	for (size_t i = 0; i < n; i++) {
+		double z = 1.0 - 2.0 * ((double)i + 0.5) / (double)n, rho = sqrt(1.0 - z * z), a = golden * (double)i;
+		s->x[i] = s->nx[i] = (float)(rho * cos(a));
+		s->y[i] = s->ny[i] = (float)(rho * sin(a));
+		s->z[i] = s->nz[i] = (float)z;
+		k->x[i] = 0.5f * s->x[i], k->y[i] = 0.5f * s->y[i], k->z[i] = 0.5f * s->z[i];
+		k->nx[i] = s->nx[i], k->ny[i] = s->ny[i], k->nz[i] = s->nz[i];
+	}
+	s->n = k->n = n;
+}
+
+/* Insertion on a sphere: the requested count, new points on the sphere well
+ * within the spacing (the Hermite lift), inner ends on the inner sphere, no
+ * two points closer than the gap, old rows untouched. */
+static void test_insert_sphere(void **state)
+{
+	(void)state;
+	size_t target = 4 * SPHERE_POINTS;
+	dp_cloud s = {0}, k = {0};
+	fibonacci_sphere(SPHERE_POINTS, target, &s, &k);
+	float x0 = s.x[17], z0 = k.z[17];
+	dp_error err = {0};
+	double r = 0.0;
+	assert_int_equal(dp_mean_spacing(s.n, s.x, s.y, s.z, &r, &err), DP_OK);
+	size_t added = 0;
+	if (dp_refine_insert(&s, &k, target, r, &added, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	assert_int_equal(s.n, target);
+	assert_int_equal(k.n, target);
+	assert_int_equal(added, target - SPHERE_POINTS);
+	assert_true(s.x[17] == x0 && k.z[17] == z0);
+	double worst = 0.0, worst_inner = 0.0;
+	for (size_t i = SPHERE_POINTS; i < s.n; i++) {
+		double d = sqrt((double)s.x[i] * s.x[i] + (double)s.y[i] * s.y[i] + (double)s.z[i] * s.z[i]);
+		double di = sqrt((double)k.x[i] * k.x[i] + (double)k.y[i] * k.y[i] + (double)k.z[i] * k.z[i]);
+		double dot = (s.x[i] * s.nx[i] + s.y[i] * s.ny[i] + s.z[i] * s.nz[i]) / d;
+		worst = fmax(worst, fabs(d - 1.0));
+		worst_inner = fmax(worst_inner, fabs(di - 0.5));
+		assert_true(dot > 0.99);
+	}
+	printf("sphere: r %.4f, new points at most %.5f off the sphere, inner ends %.5f off theirs\n", r, worst,
+	       worst_inner);
+	/* a plain chord midpoint would sit up to r²/8 inside; the lift leaves a
+	 * fraction of that */
+	assert_true(worst < 0.02 * r);
+	assert_true(worst_inner < 0.1 * r);
+	double spacing = 0.0;
+	assert_int_equal(dp_mean_spacing(s.n, s.x, s.y, s.z, &spacing, &err), DP_OK);
+	dp_knn knn = {0};
+	int idx[2];
+	float d2[2];
+	assert_int_equal(dp_knn_build(&knn, s.n, s.x, s.y, s.z, &err), DP_OK);
+	for (size_t i = 0; i < s.n; i++) {
+		assert_int_equal(dp_knn_query(&knn, 1, &s.x[i], &s.y[i], &s.z[i], 2, idx, d2, &err), DP_OK);
+		assert_true(sqrtf(d2[1]) >= 0.4f * (float)r * 0.999f);
+	}
+	dp_knn_free(&knn);
+	dp_cloud_free(&s);
+	dp_cloud_free(&k);
+}
+
+/* Two sheets 0.6 r apart facing away from each other (the two sides of a
+ * thin part): insertion splits edges within each sheet, never across, so no
+ * new point lands between them. */
+static void test_insert_thin(void **state)
+{
+	(void)state;
+	const int side = 16;
+	size_t n = 2 * (size_t)side * side, target = 3 * n;
+	dp_cloud s = {0}, k = {0};
+	dp_error err = {0};
+	if (dp_cloud_alloc(&s, target, 1, &err) != DP_OK || dp_cloud_alloc(&k, target, 1, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const float gap = 0.6f;
+	size_t i = 0;
+	for (int sheet = 0; sheet < 2; sheet++)
+		for (int a = 0; a < side; a++)
+			for (int b = 0; b < side; b++, i++) {
+				float up = sheet ? 1.0f : -1.0f;
+				s.x[i] = (float)a, s.y[i] = (float)b, s.z[i] = 0.5f * gap * up;
+				s.nx[i] = s.ny[i] = 0.0f, s.nz[i] = up;
+				k.x[i] = s.x[i], k.y[i] = s.y[i], k.z[i] = 0.0f;
+				k.nx[i] = k.ny[i] = 0.0f, k.nz[i] = up;
+			}
+	s.n = k.n = n;
+	size_t added = 0;
+	if (dp_refine_insert(&s, &k, target, 1.0, &added, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	assert_true(added > n);
+	for (size_t j = n; j < s.n; j++)
+		assert_true(fabsf(fabsf(s.z[j]) - 0.5f * gap) < 1e-5f && s.nz[j] * s.z[j] > 0.0f);
+	dp_cloud_free(&s);
+	dp_cloud_free(&k);
+}
+
+/* The pipeline on a one-view scan of a sphere asked for more deep points
+ * than the scan has: coarse level, refined levels, every output the same
+ * length, the completed sphere covered and every normal outward along its
+ * deep point. */
+static void test_upsample_pipeline(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_shape shape;
+	dp_cloud mesh = {0}, scan = {0};
+	dp_scan_params sp;
+	dp_scan_params_default(&sp);
+	sp.views = 1;
+	sp.res = 48;
+	sp.noise = 0.002;
+	sp.normals = 0;
+	if (dp_shape_default("sphere", &shape, &err) != DP_OK || dp_shape_mesh(&shape, &mesh, &err) != DP_OK ||
+	    dp_scan(&mesh, &sp, &scan, NULL, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	dp_params p;
+	dp_params_default(&p);
+	p.refine.coarse_samples = 500;
+	p.wlop.samples = 2 * scan.n;
+	dp_result res = {0};
+	if (dp_consolidate(tk_cl_context(), &scan, &p, &res, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	size_t n = p.wlop.samples;
+	assert_int_equal(res.surface.n, n);
+	assert_int_equal(res.skeleton.n, n);
+	assert_int_equal(res.wlop.n, 500);
+	assert_true(res.levels >= 2);
+	assert_int_equal(res.level[res.levels - 1].points, n);
+	size_t against = 0;
+	for (size_t i = 0; i < n; i++) {
+		float m[3] = {res.surface.x[i] - res.skeleton.x[i], res.surface.y[i] - res.skeleton.y[i],
+			      res.surface.z[i] - res.skeleton.z[i]};
+		float len = sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+		assert_true(fabsf(len - res.length[i]) <= 1e-4f * (1.0f + len));
+		assert_true(isfinite(res.eta[i]) && res.eta[i] >= 1.0f);
+		against += m[0] * res.surface.nx[i] + m[1] * res.surface.ny[i] + m[2] * res.surface.nz[i] < 0.0f;
+	}
+	dp_eval_result e;
+	if (dp_eval(&mesh, &res.surface, NULL, &e, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	printf("one-view sphere, %zu raw -> %zu deep points in %d levels: coverage %.3f, flipped %.4f, "
+	       "%zu normals against their deep point\n",
+	       scan.n, n, res.levels, e.coverage, e.normal_flipped, against);
+	assert_int_equal(against, 0);
+	assert_true(e.coverage >= 0.9);
+	assert_true(e.normal_flipped <= 0.01);
+	dp_result_free(&res);
+	dp_cloud_free(&mesh);
+	dp_cloud_free(&scan);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_levels),
+		cmocka_unit_test(test_insert_sphere),
+		cmocka_unit_test(test_insert_thin),
+		cmocka_unit_test(test_upsample_pipeline),
+	};
+	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
+}
