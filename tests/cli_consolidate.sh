@@ -84,4 +84,39 @@ print("wlop.ply and anchors.ply: %d points with normals" % m)
 	[ "$pngs" -eq 4 ] && ok "--render: input, skeleton, surface and dpoints PNGs are valid"
 fi
 
+# --samples Fx: F times the input's points; above the input it upsamples
+# through the refined levels, and every output keeps one row per deep point.
+raw=$(py "$PLY_PY"'
+names, rows, _ = read_ply(sys.argv[1])
+print(len(rows))
+' "$tmp/torus.ply")
+up=$((2 * raw))
+if expect_ok upsample consolidate "$tmp/torus.ply" -o "$tmp/up" --samples 2x --coarse-samples $m --quiet; then
+	if msg=$(py "$PLY_PY"'
+import json
+d, n = sys.argv[1], int(sys.argv[2])
+for name in ("surface.ply", "skeleton.ply"):
+    _, rows, _ = read_ply(d + "/" + name)
+    if len(rows) != n:
+        sys.exit("%s: %d rows, expected %d" % (name, len(rows), n))
+rep = json.load(open(d + "/report.json"))
+levels = rep["results"]["surface"]["levels"]
+if rep["results"]["deep_points"] != n or len(levels) < 2 or levels[0]["points"] != int(sys.argv[3]) \
+        or levels[-1]["points"] != n:
+    sys.exit("report: %d deep points, levels %s" % (rep["results"]["deep_points"], levels))
+print("%d raw points -> %d deep points in %d levels" % (n // 2, n, len(levels)))
+' "$tmp/up" $up $m 2>&1); then ok "--samples 2x: $msg"; else fail "--samples 2x: $msg"; fi
+fi
+run bad_factor consolidate "$tmp/torus.ply" -o "$tmp/bad" --samples 0x
+one_error_line bad_factor 2 "--samples"
+
+# A stage stopped at its cap says so on stderr, even with --quiet.
+if expect_ok capped consolidate "$tmp/torus.ply" -o "$tmp/capped" --samples $m --wlop-iters 2 --quiet; then
+	if grep -q "warning: stopped at the iteration cap before converging: wlop" "$tmp/capped.err"; then
+		ok "cap warning: $(cat "$tmp/capped.err")"
+	else
+		fail "no cap warning for --wlop-iters 2: $(cat "$tmp/capped.err")"
+	fi
+fi
+
 finish
