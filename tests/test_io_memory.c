@@ -100,8 +100,9 @@ static void test_corpus_file_and_memory_agree(void **state)
 				if (compare(copy, data, size, flags) != DP_OK)
 					fail_msg("seed %s is not a valid file", seed);
 				/* every truncation and a flipped byte at every offset: the
-				 * error paths must agree as well */
-				for (size_t cut = 0; cut < size; cut++) {
+				 * error paths must agree as well (as a mesh only: that reads
+				 * all a points read does, and halves the time under ASan) */
+				for (size_t cut = 0; flags == DP_READ_MESH && cut < size; cut++) {
 					compare(copy, data, cut, flags);
 					unsigned char keep = data[cut];
 					data[cut] ^= (unsigned char)(cut * 37 + 1);
