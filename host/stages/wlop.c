@@ -78,7 +78,7 @@ static dp_status check_input(const dp_cloud *in, dp_error *err)
  * scans. */
 static dp_status choose_samples(const dp_cloud *in, size_t m, uint64_t seed, dp_cloud *s, dp_error *err)
 {
-	size_t n = in->n, ndistinct, next = 0;
+	size_t n = in->n, ndistinct = 0, next = 0;
 	size_t *order = dp_alloc_array(n, sizeof *order);
 	uint32_t *of = dp_alloc_array(n, sizeof *of);
 	unsigned char *taken = calloc(n, 1);
@@ -293,7 +293,7 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 			       input->n);
 	if (input->n > UINT32_MAX)
 		return dp_fail(err, DP_ERR_ARG, "wlop: %zu points exceed the 32-bit index range", input->n);
-	size_t ndistinct;
+	size_t ndistinct = 0;
 	if ((st = dp_distinct_upto(input, m, &ndistinct, err)) != DP_OK)
 		return st;
 	if (ndistinct < m)
