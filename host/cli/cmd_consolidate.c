@@ -106,6 +106,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	int any_side = 0, old_orient = 0;
 	const char *samples = NULL;
 	job.up_axis = 1;
+	job.staged = 1;
 	double sigma_p = job.params.sink.sigma_p;
 	dp_params *p = &job.params;
 	cli_opt opts[] = {
@@ -240,6 +241,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 			rc = DP_EXIT_NOMEM;
 		} else {
 			rc = cli_check_folder_not_input(cmd, dirs[i], inputs, ninputs);
+			if (!rc)
+				rc = dp_cli_check_result_dir(cmd, dirs[i]);
 		}
 	}
 	struct stat sb;

@@ -9,6 +9,9 @@ typedef struct dp_consolidate_job {
 	double samples_factor; /* --samples Fx: F times each input's point count (0: not given) */
 	int save_stages, render, ascii;
 	int up_axis; /* vertical axis of the renders: 0 x, 1 y, 2 z */
+	/* write into a staging sibling of the folder and swap it in (consolidate);
+	 * 0 writes into the folder itself, beside files of the caller (demo) */
+	int staged;
 	const char *backend_name, *device_name;
 } dp_consolidate_job;
 
@@ -41,5 +44,18 @@ void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_c
 void dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
 /* mkdir -p; 0 or an exit code after one error line. */
 int dp_cli_mkdir(const char *cmd, const char *dir);
+
+/* Every file a consolidate run writes into its folder, NULL-terminated. */
+extern const char *const dp_cli_result_files[];
+/* Removes temporaries of dead runs beside and inside `dir`, then fails (exit
+ * code, one error line) unless `dir` is missing, empty or holds nothing but
+ * result files: replacing it deletes what it holds. */
+int dp_cli_check_result_dir(const char *cmd, const char *dir);
+/* Creates the staging folder "<dir>.tmp.<pid>" (its path into `staging`). */
+int dp_cli_stage_begin(const char *cmd, const char *dir, char *staging, size_t size);
+/* Swaps the complete staging folder in for `dir` and removes the old one;
+ * on failure removes staging and prints one error line. */
+int dp_cli_stage_commit(const char *cmd, const char *dir, const char *staging);
+void dp_cli_stage_abort(const char *staging);
 
 #endif

@@ -237,14 +237,29 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 		goto fail;
 	}
 	/* only now, so that an input the pipeline rejects leaves no folder behind */
-	if ((rc = dp_cli_mkdir(cmd, dir)))
+	char staging[3072];
+	const char *wdir = dir;
+	if (job->staged) {
+		if ((rc = dp_cli_stage_begin(cmd, dir, staging, sizeof staging)))
+			goto fail_rc;
+		wdir = staging;
+	} else if ((rc = dp_cli_mkdir(cmd, dir))) {
 		goto fail_rc;
-	if (write_outputs(job, in, res, dir, &err) != DP_OK)
+	}
+	if (write_outputs(job, in, res, wdir, &err) != DP_OK) {
+		if (job->staged)
+			dp_cli_stage_abort(staging);
 		goto fail;
+	}
 	char report[4096];
-	snprintf(report, sizeof report, "%s/report.json", dir);
+	snprintf(report, sizeof report, "%s/report.json", wdir);
 	report_arg arg = {job, label, dir, res};
-	if ((rc = cli_write_json(cmd, report, fill_report, &arg)))
+	if ((rc = cli_write_json(cmd, report, fill_report, &arg))) {
+		if (job->staged)
+			dp_cli_stage_abort(staging);
+		goto fail_rc;
+	}
+	if (job->staged && (rc = dp_cli_stage_commit(cmd, dir, staging)))
 		goto fail_rc;
 	summary->ok = 1;
 	summary->points_out = res->surface.n;

@@ -2,7 +2,7 @@
  * puts it in the input's place, so `wlop X.xyz -o X.xyz` destroyed the input.
  * Paths are compared as files (device and inode), since "./X.xyz", a hard
  * link or a symbolic link name the same file with a different string. */
-#include "cli/session.h"
+#include "cli/consolidate.h"
 
 #include <stdio.h>
 #include <sys/stat.h>
@@ -26,14 +26,9 @@ int cli_check_not_input(const char *cmd, const char *output, const char *const *
 
 int cli_check_folder_not_input(const char *cmd, const char *dir, const char *const *inputs, size_t ninputs)
 {
-	/* every file a consolidate run writes into its folder (consolidate_run.c,
-	 * render_result.c) */
-	static const char *const names[] = {"surface.ply", "skeleton.ply", "dpoints.ply", "report.json",
-					    "wlop.ply",    "anchors.ply",  "input.png",   "skeleton.png",
-					    "surface.png", "dpoints.png"};
-	for (size_t k = 0; k < sizeof names / sizeof names[0]; k++) {
+	for (size_t k = 0; dp_cli_result_files[k]; k++) {
 		char path[4096];
-		snprintf(path, sizeof path, "%s/%s", dir, names[k]);
+		snprintf(path, sizeof path, "%s/%s", dir, dp_cli_result_files[k]);
 		int rc = cli_check_not_input(cmd, path, inputs, ninputs);
 		if (rc)
 			return rc;
