@@ -14,7 +14,7 @@
  * each chair setup. Lengths: shape cases in the shape's unit (R, T or rho), chair
  * in bbox diagonals of the ground truth.
  */
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -25,7 +25,7 @@
  * "seconds" is the wall time of the public call, measured here around it.
  * The reference is skipped (a line with "skipped") above --ref-max samples.
  */
-#include "dpoints.h"
+#include "dpoints_tools.h"
 #include "core/common.h"
 #include "knn/knn.h"
 

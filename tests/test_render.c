@@ -8,7 +8,7 @@
 
 #include <cmocka.h>
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 #include <dirent.h>
 #include <limits.h>

@@ -3,7 +3,7 @@
 #ifndef DP_CLI_CLI_H
 #define DP_CLI_CLI_H
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 #include <stdio.h>
 

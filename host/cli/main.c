@@ -18,7 +18,8 @@ static const struct {
 
 static void usage(FILE *out)
 {
-	fprintf(out, "usage: dpoints COMMAND [options]   (dpoints COMMAND --help for its options)\n\ncommands:\n");
+	fprintf(out, "usage: dpoints COMMAND [options]   (dpoints COMMAND --help for its options)\n"
+		     "       dpoints --version\n\ncommands:\n");
 	for (size_t i = 0; i < sizeof commands / sizeof commands[0]; i++)
 		fprintf(out, "  %-12s %s\n", commands[i].name, commands[i].summary);
 }
@@ -28,6 +29,11 @@ int main(int argc, char **argv)
 	if (argc < 2) {
 		usage(stderr);
 		return DP_EXIT_INPUT;
+	}
+	if (strcmp(argv[1], "--version") == 0 || strcmp(argv[1], "version") == 0) {
+		/* the library's version: the tool is one of its clients */
+		printf("dpoints %s\n", dp_version());
+		return DP_EXIT_OK;
 	}
 	if (strcmp(argv[1], "--help") == 0 || strcmp(argv[1], "-h") == 0 || strcmp(argv[1], "help") == 0) {
 		usage(stdout);

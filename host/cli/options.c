@@ -23,6 +23,7 @@ int dp_cli_exit_code(dp_status st)
 	case DP_ERR_NOMEM:
 		return DP_EXIT_NOMEM;
 	case DP_ERR_INTERNAL:
+	case DP_ERR_CANCELLED: /* the tool never asks to stop; a library caller does */
 		break;
 	}
 	return DP_EXIT_FAILURE;

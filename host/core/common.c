@@ -73,6 +73,12 @@ const char *dp_status_string(dp_status status)
 	case DP_ERR_CL: return "OpenCL error";
 	case DP_ERR_KERNEL_BUILD: return "OpenCL program build failed";
 	case DP_ERR_INTERNAL: return "internal error";
+	case DP_ERR_CANCELLED: return "cancelled";
 	}
 	return "unknown status";
+}
+
+const char *dp_version(void)
+{
+	return DP_VERSION_STRING;
 }

@@ -2,7 +2,8 @@
  * dpoints — Deep Points Consolidation (Wu et al., SIGGRAPH Asia 2015) of raw,
  * noisy, incomplete 3D scans, with OpenCL kernels and a scalar reference.
  *
- * One public header. Conventions for every function below:
+ * The library's one header (the scanner, shapes, metrics and renderer used
+ * around it are in dpoints_tools.h). Conventions for every function below:
  *  - Functions return a dp_status; DP_OK is zero. When `err` is not NULL it
  *    receives one human-readable line naming the file or stage and the problem.
  *  - Structures the library fills (dp_cloud, dp_wlop_stats, ...) are owned by
@@ -20,9 +21,28 @@
 #include <stdio.h>
 #include <stdint.h>
 
+#include "dpoints_version.h"
+
+/* Marks the functions the shared library exports: it is built with hidden
+ * visibility, so nothing else (no internal helper) becomes part of its ABI. */
+#if defined(_WIN32) && defined(DP_SHARED_BUILD)
+#define DP_API __declspec(dllexport)
+#elif defined(__GNUC__)
+#define DP_API __attribute__((visibility("default")))
+#else
+#define DP_API
+#endif
+
 #ifdef __cplusplus
 extern "C" {
 #endif
+
+/* ----------------------------------------------------------------- version */
+
+/* The library's version as "MAJOR.MINOR.PATCH", a static string. Compare it
+ * with DP_VERSION_STRING to see whether the library a program runs with is
+ * the one it was compiled against. Reentrant. */
+DP_API const char *dp_version(void);
 
 /* ------------------------------------------------------------------ errors */
 
@@ -36,7 +56,8 @@ typedef enum dp_status {
 	DP_ERR_NO_DEVICE,    /* no OpenCL platform/device, or none matches */
 	DP_ERR_CL,           /* an OpenCL call failed (message has the cl_int name) */
 	DP_ERR_KERNEL_BUILD, /* the OpenCL program failed to build (log in message) */
-	DP_ERR_INTERNAL      /* an invariant broke; a bug */
+	DP_ERR_INTERNAL,     /* an invariant broke; a bug */
+	DP_ERR_CANCELLED     /* the progress callback asked to stop (dp_progress_fn) */
 } dp_status;
 
 #define DP_ERROR_MESSAGE_MAX 1024
@@ -48,7 +69,7 @@ typedef struct dp_error {
 } dp_error;
 
 /* A static string naming the status ("file format error", ...). */
-const char *dp_status_string(dp_status status);
+DP_API const char *dp_status_string(dp_status status);
 
 /* ------------------------------------------------------------- point sets */
 
@@ -69,14 +90,14 @@ typedef struct dp_cloud {
 /* Allocates arrays for n points (and normals when with_normals); the contents
  * are uninitialised. The struct is overwritten, not freed first; the caller
  * owns it (dp_cloud_free). DP_ERR_NOMEM, the struct zeroed. */
-dp_status dp_cloud_alloc(dp_cloud *cloud, size_t n, int with_normals, dp_error *err);
+DP_API dp_status dp_cloud_alloc(dp_cloud *cloud, size_t n, int with_normals, dp_error *err);
 /* Adds (uninitialised) normal arrays to a cloud that has none. */
-dp_status dp_cloud_add_normals(dp_cloud *cloud, dp_error *err);
+DP_API dp_status dp_cloud_add_normals(dp_cloud *cloud, dp_error *err);
 /* Frees every array and zeroes the struct. NULL and zeroed structs are fine. */
-void dp_cloud_free(dp_cloud *cloud);
+DP_API void dp_cloud_free(dp_cloud *cloud);
 /* Deep copy of src (faces included) into dst, which is overwritten, not freed
  * first, and must not be src. DP_ERR_NOMEM; dst is zeroed on error. */
-dp_status dp_cloud_copy(dp_cloud *dst, const dp_cloud *src, dp_error *err);
+DP_API dp_status dp_cloud_copy(dp_cloud *dst, const dp_cloud *src, dp_error *err);
 
 /* ---------------------------------------------------------------- file I/O */
 
@@ -92,7 +113,7 @@ typedef enum dp_read_flags {
  * non-finite coordinates with DP_ERR_IO / DP_ERR_FORMAT / DP_ERR_EMPTY; on
  * error `cloud` is left zeroed. On success the caller owns `cloud`.
  */
-dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err);
+DP_API dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err);
 
 /*
  * Reads a point file that is already in memory: the `size` bytes at `data`
@@ -106,7 +127,7 @@ dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *
  * flags; on error `cloud` is left zeroed, on success the caller owns it
  * (dp_cloud_free). Reentrant; owned by the I/O module (host/io).
  */
-dp_status dp_cloud_read_memory(const void *data, size_t size, const char *name, dp_cloud *cloud, int flags,
+DP_API dp_status dp_cloud_read_memory(const void *data, size_t size, const char *name, dp_cloud *cloud, int flags,
 			       dp_error *err);
 
 /* A named per-vertex float property for dp_ply_write. */
@@ -122,12 +143,12 @@ typedef struct dp_ply_property {
  * `ascii`. Written to a temporary name in the same folder and renamed, so a
  * failure never leaves a partial file at `path`.
  */
-dp_status dp_ply_write(const char *path, size_t n, const dp_ply_property *props, size_t nprops,
+DP_API dp_status dp_ply_write(const char *path, size_t n, const dp_ply_property *props, size_t nprops,
 		       const uint32_t *edges, size_t nedges, const uint32_t *faces, size_t nfaces,
 		       int ascii, dp_error *err);
 
 /* Writes x y z (and nx ny nz when present, faces when present) as PLY. */
-dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii, dp_error *err);
+DP_API dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii, dp_error *err);
 
 /*
  * Reads the `element edge` (int vertex1, vertex2) of a PLY file, as
@@ -137,7 +158,7 @@ dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii,
  * dp_cloud_read, plus an edge index out of range (DP_ERR_FORMAT); on error
  * *edges is NULL and *nedges 0. Owner: the I/O module (host/io). Reentrant.
  */
-dp_status dp_ply_read_edges(const char *path, uint32_t **edges, size_t *nedges, dp_error *err);
+DP_API dp_status dp_ply_read_edges(const char *path, uint32_t **edges, size_t *nedges, dp_error *err);
 
 /* ------------------------------------------------------- OpenCL, backends */
 
@@ -158,13 +179,13 @@ typedef struct dp_context dp_context;
  * DP_ERR_NO_DEVICE or DP_ERR_KERNEL_BUILD (build log in err). For
  * DP_BACKEND_REF no OpenCL call is made. Free with dp_context_free.
  */
-dp_status dp_context_create(dp_context **ctx, dp_backend_kind kind, const char *device, dp_error *err);
+DP_API dp_status dp_context_create(dp_context **ctx, dp_backend_kind kind, const char *device, dp_error *err);
 /* Releases the context and its OpenCL objects; NULL is fine. */
-void dp_context_free(dp_context *ctx);
+DP_API void dp_context_free(dp_context *ctx);
 /* "reference (scalar C)" or the OpenCL platform and device name; the string
  * belongs to ctx and lives until dp_context_free. */
-const char *dp_context_device_name(const dp_context *ctx);
-dp_backend_kind dp_context_backend(const dp_context *ctx);
+DP_API const char *dp_context_device_name(const dp_context *ctx);
+DP_API dp_backend_kind dp_context_backend(const dp_context *ctx);
 
 /* Called after every iteration of a long stage with the stage name ("wlop",
  * "sink", "skeleton", "surface"), the iteration (from 1), a stage-specific
@@ -172,16 +193,16 @@ dp_backend_kind dp_context_backend(const dp_context *ctx);
  * mean move in h) and the seconds since the context was created. Runs on the calling
  * thread; NULL turns reports off (the default). */
 typedef void (*dp_progress_fn)(void *user, const char *stage, int iteration, double value, double elapsed);
-void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
+DP_API void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
 
 /* Prints every OpenCL platform and device with its index, one per line, as
  * accepted by dp_context_create's `device`. DP_ERR_NO_DEVICE when there is
  * none, DP_ERR_CL when the query fails. Reentrant. */
-dp_status dp_list_devices(FILE *out, dp_error *err);
+DP_API dp_status dp_list_devices(FILE *out, dp_error *err);
 
 /* ------------------------------------------------------------------- WLOP */
 /*
- * Weighted locally optimal projection (Huang et al. 2009; DESIGN 4.0), owned
+ * Weighted locally optimal projection (Huang et al. 2009), owned
  * by host/stages/wlop.c: m samples of the input move to a denoised, evenly
  * spaced set on its surface. Uses only the dp_context passed in (one thread
  * at a time per context).
@@ -193,7 +214,7 @@ typedef enum dp_wlop_weight {
 } dp_wlop_weight;
 
 /*
- * Defaults are those measured to meet DESIGN 4.0's targets on the noisy
+ * Defaults are those measured to denoise and even out best the noisy
  * sphere (cgal/sphere_20k.xyz, 21000 -> 2100: radial std 0.0040, NN-spacing
  * variation 0.13, 30 iterations): the Gaussian mean with theta_k = 4 and
  * h = 5 x the initial samples' spacing, as in CGAL (the authors' tool). Huang
@@ -217,7 +238,7 @@ typedef struct dp_wlop_params {
 	uint64_t seed;         /* initial sample choice; default 1 */
 } dp_wlop_params;
 
-void dp_wlop_params_default(dp_wlop_params *p);
+DP_API void dp_wlop_params_default(dp_wlop_params *p);
 
 typedef struct dp_wlop_stats {
 	size_t samples;          /* m */
@@ -246,7 +267,7 @@ typedef struct dp_wlop_stats {
  * or parameters out of range (h^2 too overflows a float); DP_ERR_NOMEM;
  * DP_ERR_CL from the device.
  */
-dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *params,
+DP_API dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *params,
 		  dp_cloud *samples, dp_wlop_stats *stats, dp_error *err);
 
 /* ---------------------------------------------------------------- normals */
@@ -260,7 +281,7 @@ typedef struct dp_normal_params {
 	double viewpoint[3];   /* the scanner position, in input coordinates */
 } dp_normal_params;
 
-void dp_normal_params_default(dp_normal_params *p);
+DP_API void dp_normal_params_default(dp_normal_params *p);
 
 /*
  * Estimates a unit normal for every point of `cloud` (adding normal arrays if
@@ -284,12 +305,12 @@ void dp_normal_params_default(dp_normal_params *p);
  * distances overflow a float), DP_ERR_EMPTY (no points),
  * DP_ERR_NOMEM; on error the normal values are unspecified.
  */
-dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err);
+DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, dp_error *err);
 
 /* ---------------------------------------------------------------- sinking */
 
 /*
- * Sinking the consolidated points into anchors (paper 4.1, DESIGN 4.1; owner:
+ * Sinking the consolidated points into anchors (paper 4.1; owner:
  * host/stages/sink.c). Every dpoint starts with its inner point q_i on its
  * surface point p_i; lengths are in units of r (paper Eq. 1, passed in by the
  * caller). Each iteration, for every unsettled q_i:
@@ -324,7 +345,8 @@ dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *params, d
  */
 typedef struct dp_sink_params {
 	double sigma_p;          /* static neighbourhood radius σp, in r; default 5 */
-	double settle_radius_r;  /* settle test radius, in r; default 1 (DESIGN 4.1; the paper's σq = 2) */
+	double settle_radius_r;  /* settle test radius, in r; default 1 (the paper's σq = 2 stopped a torus'
+	                            anchors 2 r off its axis, 1 r brought its skeleton to 0.14 r) */
 	double front_factor;     /* opposing front: surface points farther apart than this × settle radius; default 2 */
 	double omega_deg;        /* ω, in degrees, in (0, 180); default 45 */
 	double first_step_r;     /* t of the first iteration, in r; default 0.5 */
@@ -333,7 +355,7 @@ typedef struct dp_sink_params {
 	double medial_margin_r;  /* medial test margin, in r; 0 = off; default 1 (see 1b above) */
 } dp_sink_params;
 
-void dp_sink_params_default(dp_sink_params *p);
+DP_API void dp_sink_params_default(dp_sink_params *p);
 
 typedef struct dp_sink_stats {
 	int iterations;          /* iterations run */
@@ -358,13 +380,13 @@ typedef struct dp_sink_stats {
  * non-finite points or normals, parameters out of range), DP_ERR_EMPTY (no
  * points), DP_ERR_NOMEM, DP_ERR_CL from the device.
  */
-dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *p, dp_cloud *anchors,
+DP_API dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *p, dp_cloud *anchors,
 		  dp_sink_stats *stats, dp_error *err);
 
 /* ---------------------------------------------------------- meso-skeleton */
 
 /*
- * Forming the meso-skeleton (paper 4.2, DESIGN 4.2; owner: host/stages/skeleton.c).
+ * Forming the meso-skeleton (paper 4.2; owner: host/stages/skeleton.c).
  * Lengths are in units of r (the mean nearest-neighbour spacing of the surface
  * samples, paper Eq. 1, passed in by the caller). Q starts as the anchors H;
  * every iteration reads the old Q and writes a new one (Jacobi), for each q_i:
@@ -377,8 +399,8 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
  *  - data term: the anisotropic L1-median step over the anchors,
  *    m_i = Σ_k α_k h_k / Σ_k α_k, α_k = ϑ(h_k) / |q_i - h_k|;
  *  - repulsion over the other inner points, ρ_i = Σ β (q_i - q') / Σ β,
- *    β = ϑ(q') / u(q')⁵, projected onto the long axes (DESIGN 4.2 resolves the
- *    paper's μ|ℓ|² AᵀA, which would push across a curve or sheet):
+ *    β = ϑ(q') / u(q')⁵, projected onto the long axes (the intent of the
+ *    paper's μ|ℓ|² AᵀA, which taken literally would push hardest across a curve or sheet):
  *    P_i = Σ_{m: w_m >= min_axis_weight} w_m v^m v^mᵀ, w_m = (l^m)² / Σ_m' (l^m')²;
  *  - update q_i ← m_i + mu · P_i ρ_i. Without anchors in reach m_i = q_i;
  *    without inner neighbours in reach ρ_i = 0 (isolated points stay put).
@@ -399,7 +421,7 @@ typedef struct dp_skeleton_params {
 	double min_move_r;      /* stop when the mean move is below this, r; default 1e-3 */
 } dp_skeleton_params;
 
-void dp_skeleton_params_default(dp_skeleton_params *p);
+DP_API void dp_skeleton_params_default(dp_skeleton_params *p);
 
 typedef struct dp_skeleton_stats {
 	int iterations;
@@ -419,13 +441,13 @@ typedef struct dp_skeleton_stats {
  * positions or normals, r or a parameter out of range), DP_ERR_NOMEM, and
  * the backend's errors. Uses ctx exclusively for its duration.
  */
-dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const dp_skeleton_params *params,
+DP_API dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const dp_skeleton_params *params,
 		      dp_cloud *skeleton, dp_skeleton_stats *stats, dp_error *err);
 
 /* -------------------------------------------------- surface consolidation */
 
 /*
- * Surface point consolidation (paper 4.3, DESIGN 4.3; owner:
+ * Surface point consolidation (paper 4.3; owner:
  * host/stages/surface.c). Lengths are in units of r (paper Eq. 1, passed in
  * by the caller); θ(d) = exp(-(d/r)²). P starts as the samples S, Q as the
  * skeleton; every pass reads the old P and writes a new one (Jacobi). For each
@@ -443,8 +465,9 @@ dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const 
  *     nearest to the line through p_i along ñ_i (the PCA normal of step 5 of
  *     the previous iteration; n_i itself is m_i where there is no input);
  *  4. data and prior step at the slid p_i, with m_i, ℓ_i of the slid p_i and
- *     the re-attached q_i (DESIGN 4.3: the data term acts along the normal
- *     only, or the boundaries of missing regions stay pinned):
+ *     the re-attached q_i (the data term acts along the normal
+ *     only: as Eq. 6 is printed it pins the boundaries of missing regions, and a
+ *     one-view torus scan stayed at 51% coverage instead of 98%):
  *     p_i += [η Σα D_i + g_i] / (γ + η Σα), D_i = n_i n_iᵀ(c̄_i - p_i)
  *     (data_along_normal; else c̄_i - p_i as Eq. 6 is printed),
  *     volume prior (Eq. 8):  g_i = γ (q_i + L_i m_i - p_i) = γ (L_i - ℓ_i) m_i;
@@ -475,7 +498,7 @@ typedef struct dp_surface_params {
 	double sigma_p;           /* neighbourhood radius of C_i and P_i, r; default 5 */
 	double mu_hat;            /* tangential repulsion μ̂, in [0, 1]; default 0.4 */
 	dp_surface_prior prior;   /* default DP_SURFACE_PRIOR_VOLUME */
-	int data_along_normal;    /* 1: data term n nᵀ(c̄ - p) (DESIGN 4.3); 0: c̄ - p as Eq. 6 is printed; default 1 */
+	int data_along_normal;    /* 1: data term n nᵀ(c̄ - p) (step 4 above); 0: c̄ - p as Eq. 6 is printed; default 1 */
 	double tangent_floor_r;   /* smallest tangential distance in β̂, r (> 0); default 0.01 */
 	double normal_radius_r;   /* PCA neighbourhood of ñ, r; default 3 */
 	int reattach;             /* re-attach inner ends; default 1 */
@@ -492,7 +515,7 @@ typedef struct dp_surface_params {
 	                             going, >= 0; default 0.005 */
 } dp_surface_params;
 
-void dp_surface_params_default(dp_surface_params *p);
+DP_API void dp_surface_params_default(dp_surface_params *p);
 
 typedef struct dp_surface_stats {
 	int iterations;
@@ -526,7 +549,7 @@ typedef struct dp_surface_stats {
  * or a parameter out of range), DP_ERR_EMPTY (no samples or no input points),
  * DP_ERR_NOMEM, and the backend's errors.
  */
-dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
+DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
 		     double r, const dp_surface_params *params, dp_cloud *surface, float *eta,
 		     dp_surface_stats *stats, dp_error *err);
 
@@ -563,7 +586,7 @@ typedef struct dp_refine_params {
 	                             scan, too few to mean anything; default 4000 */
 } dp_refine_params;
 
-void dp_refine_params_default(dp_refine_params *p);
+DP_API void dp_refine_params_default(dp_refine_params *p);
 
 /* One level of the coarse-to-fine surface: its size and what relaxing it cost. */
 typedef struct dp_level_stats {
@@ -585,7 +608,7 @@ typedef struct dp_params {
 	dp_refine_params refine;
 } dp_params;
 
-void dp_params_default(dp_params *p);
+DP_API void dp_params_default(dp_params *p);
 
 /*
  * Everything dp_consolidate makes. surface, skeleton, eta and length have
@@ -626,272 +649,10 @@ typedef struct dp_result {
  * by its diagonal on every side (an input too degenerate to consolidate). Uses ctx exclusively for
  * its duration.
  */
-dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params *params, dp_result *result,
+DP_API dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params *params, dp_result *result,
 			 dp_error *err);
 /* Frees every array of the result and zeroes it; NULL is fine. */
-void dp_result_free(dp_result *result);
-
-/* -------------------------------------------------------------- rendering */
-
-/*
- * Pictures of point sets for people to look at (owner: render module,
- * host/tools/render.c). All functions here take no dp_context and are
- * reentrant; they only read the layers and clouds they are given.
- */
-
-/* One set of points drawn in one colour. The layer and the arrays it points
- * to stay owned by the caller. */
-typedef struct dp_render_layer {
-	const dp_cloud *cloud;    /* positions; its normals, when present, shade the points */
-	const uint32_t *edges;    /* 2*nedges indices into cloud, drawn as segments; may be NULL */
-	size_t nedges;
-	int segments_only;        /* draw the edges but not the points (deep points as sticks) */
-	unsigned char rgb[3];
-	float point_size_px;      /* splat diameter in pixels; 0 = from the image size and point count */
-} dp_render_layer;
-
-typedef struct dp_render_params {
-	int width;                    /* pixels of each (square) view; default 512 */
-	int views;                    /* K views side by side, 360/K degrees apart; default 3;
-	                                 1..64, and views*width^2 at most 2^25 pixels */
-	int up_axis;                  /* 0 = x, 1 = y, 2 = z is vertical; default 1 (the Stanford scans) */
-	double elevation_deg;         /* camera height above the horizon, in (-90, 90); default 20 */
-	double azimuth_deg;           /* first view; 0 = camera on the +axis (up_axis+1) mod 3; default 0 */
-	unsigned char background[3];  /* default white */
-} dp_render_params;
-
-void dp_render_params_default(dp_render_params *p);
-
-/*
- * Renders every layer into one RGB image of views*width x width pixels: the
- * views orbit the vertical axis of the union bounding box of all layers, share
- * one orthographic camera scale fitted to that box, and are laid left to
- * right. Points are z-buffered round splats, edges z-buffered 1-pixel lines
- * (depth interpolated along them), so nearer geometry hides farther geometry
- * of any layer. Shading: with normals, Lambert |n.v| towards the viewer (so
- * unoriented or flipped normals are lit too); without, nearer is brighter.
- * Non-finite points and edges touching them are skipped. `params` NULL means
- * defaults. On success *rgb is a malloc'ed buffer of 3*(*w)*(*h) bytes, rows
- * top to bottom, that the caller frees. Errors: DP_ERR_ARG (size, views, axis,
- * elevation or point size out of range, a NULL layer array or cloud, an edge
- * index out of range), DP_ERR_EMPTY (no finite point in any layer),
- * DP_ERR_NOMEM.
- */
-dp_status dp_render_rgb(const dp_render_layer *layers, size_t nlayers, const dp_render_params *params,
-			unsigned char **rgb, int *w, int *h, dp_error *err);
-
-/*
- * dp_render_rgb, then writes the image as an 8-bit RGB PNG at `path`, through
- * a temporary file in the same folder renamed at the end, so a failure never
- * leaves a file (partial or temporary) behind. Errors as dp_render_rgb, plus
- * DP_ERR_IO naming `path` when it cannot be written.
- */
-dp_status dp_render_png(const char *path, const dp_render_layer *layers, size_t nlayers,
-			const dp_render_params *params, dp_error *err);
-
-/*
- * Parses a colour: a name (red, green, blue, orange, purple, yellow, cyan,
- * magenta, pink, brown, grey/gray, black, white; any case) or #rgb / #rrggbb
- * hex. Returns 0 and fills rgb, or -1 leaving rgb untouched.
- */
-int dp_parse_colour(const char *text, unsigned char rgb[3]);
-
-/* A colour for layer `index`: neighbouring indices get clearly different
- * hues, all readable on the default white background; cycles after 8. */
-void dp_render_default_colour(size_t index, unsigned char rgb[3]);
-
-/* ------------------------------------------ Shapes, scanning, evaluation */
-/*
- * Owned by host/tools/ (shapes.c, shape_mesh.c, mesh.c, bvh.c, scan.c,
- * eval.c). A triangle mesh is
- * a dp_cloud whose faces hold 3*nfaces vertex indices, as dp_cloud_read(...,
- * DP_READ_MESH) returns it; meshes made here are closed and wound
- * counter-clockwise seen from outside (outward normals). Every function is
- * reentrant (no global state); outputs are caller-owned (dp_cloud_free, free).
- * A mesh without faces, with face indices out of range or with non-finite
- * vertices fails with DP_ERR_ARG / DP_ERR_FORMAT naming the stage.
- */
-
-typedef enum dp_shape_kind {
-	DP_SHAPE_SPHERE = 0,   /* radius R, centred at the origin */
-	DP_SHAPE_CYLINDER,     /* capped; radius R, length L along z, centred */
-	DP_SHAPE_SLAB,         /* thin box W x W (x, y) x T (z), centred */
-	DP_SHAPE_TORUS,        /* core radius R in the xy-plane, tube radius rho */
-	DP_SHAPE_KNOT,         /* tube of radius rho around a trefoil curve */
-	DP_SHAPE_CHAIR         /* seat slab, 4 cylindrical legs, back slab; floor z = 0 */
-} dp_shape_kind;
-
-/*
- * An analytic shape. Field meaning per kind (defaults from dp_shape_default):
- *   sphere:   radius = R (1)
- *   cylinder: radius = R (0.25), length = L (2)
- *   slab:     width = W (2), thickness = T (0.2)
- *   torus:    radius = R (1), tube = rho (0.3)
- *   knot:     radius = scale s of the trefoil (sin t + 2 sin 2t, cos t - 2 cos 2t,
- *             -sin 3t) (0.35), tube = rho (0.12); rho <= 0.5 s keeps the tube
- *             free of self-intersection
- *   chair:    width = seat W (1), thickness = seat and back T (0.08),
- *             radius = leg radius (0.05), length = leg length = seat height
- *             (0.9), height = back height above the seat (1). Parts are
- *             separate closed meshes that touch: the leg tops and the back's
- *             underside lie on the seat (hidden contact faces, about 4% of
- *             the area, are part of the mesh and of the distance functions).
- * resolution = segments around the smallest circumference (48; knot and
- * chair 32); other directions are divided so that triangles are roughly
- * equilateral (flat faces: at most `resolution` cells per side).
- */
-typedef struct dp_shape {
-	dp_shape_kind kind;
-	double radius, length, width, thickness, tube, height;
-	int resolution;
-} dp_shape;
-
-/* Fills `shape` with the defaults of the shape called `name` ("sphere",
- * "cylinder", "slab", "torus", "knot", "chair"); DP_ERR_ARG listing the valid
- * names otherwise. */
-dp_status dp_shape_default(const char *name, dp_shape *shape, dp_error *err);
-/* The name of a kind ("sphere", ...), or "unknown". */
-const char *dp_shape_name(dp_shape_kind kind);
-/* Triangulates the shape into `mesh` (positions and faces, no normals).
- * DP_ERR_ARG for non-positive or inconsistent dimensions or a resolution
- * outside [3, 4096]. */
-dp_status dp_shape_mesh(const dp_shape *shape, dp_cloud *mesh, dp_error *err);
-/* Exact volume of the analytic solid (knot: pi rho^2 times the curve length);
- * NAN for an invalid shape. */
-double dp_shape_volume(const dp_shape *shape);
-/* Unsigned distance from p to the analytic surface (closed form; knot: the
- * nearest core point is found numerically, to about 1e-9 s). NAN for an
- * invalid shape. Both distance functions are pure and reentrant. */
-double dp_shape_surface_distance(const dp_shape *shape, const double p[3]);
-/* Distance from p to the ideal meso-skeleton: sphere centre, cylinder axis
- * segment (|z| <= L/2), slab mid-plane rectangle, torus core circle, knot core
- * curve, chair: nearest of seat and back mid-plane rectangles and leg axes. */
-double dp_shape_skeleton_distance(const dp_shape *shape, const double p[3]);
-/* n >= 2 samples of the core curve into `out` (positions only): cylinder
- * axis from z = -L/2 to L/2, torus core circle, knot core curve (closed curves
- * are sampled without repeating the first point). DP_ERR_ARG for shapes
- * without a single core curve. */
-dp_status dp_shape_core_curve(const dp_shape *shape, size_t n, dp_cloud *out, dp_error *err);
-
-/*
- * n points sampled uniformly by area on the mesh surface (seeded,
- * reproducible), each with the unit normal of its triangle (outward for
- * outward-wound meshes), plus isotropic Gaussian noise of standard deviation
- * `noise` x the bbox diagonal per coordinate (0 = exact samples). DP_ERR_ARG
- * for n == 0, a negative noise or a mesh of zero area.
- */
-dp_status dp_mesh_sample(const dp_cloud *mesh, size_t n, double noise, uint64_t seed,
-			 dp_cloud *out, dp_error *err);
-
-typedef enum dp_scan_layout {
-	DP_SCAN_RING = 0,   /* eyes on a circle around the up axis at `elevation_deg` */
-	DP_SCAN_SPHERE = 1  /* eyes spread evenly over a sphere (Fibonacci lattice) */
-} dp_scan_layout;
-
-typedef struct dp_scan_params {
-	int views;             /* number of viewpoints; default 6 */
-	int res;               /* rays per view: res x res grid; default 256 */
-	double noise;          /* Gaussian sigma per coordinate, in bbox diagonals; default 0 */
-	double distance;       /* eye distance from the bbox centre, in bbox diagonals (> 0.5); default 2 */
-	int perspective;       /* 1 = pinhole rays from the eye (default); 0 = parallel rays */
-	dp_scan_layout layout; /* default DP_SCAN_RING */
-	int up_axis;           /* the ring's axis and the cameras' up: 0 = x, 1 = y, 2 = z; default 2 */
-	double elevation_deg;  /* ring: eye height angle above the plane across up_axis; default 20 */
-	double azimuth_deg;    /* ring: azimuth of view 0, from axis up+1 towards up+2; default 0 */
-	int normals;           /* output the hit triangle's normal, turned to face the eye; default 1 */
-	uint64_t seed;         /* noise seed; default 1 */
-} dp_scan_params;
-
-void dp_scan_params_default(dp_scan_params *p);
-
-/*
- * Range-scans `mesh` by ray casting (BVH, first hit per ray): every view
- * aims a res x res grid of rays at the bbox centre that just covers the
- * mesh's bounding sphere. `out` receives the hit points in view order (with
- * normals when params->normals). When `view_of_point` is not NULL it receives
- * a malloc'ed array of out->n view indices (caller frees). DP_ERR_ARG for
- * parameters out of range, DP_ERR_EMPTY when no ray hits.
- */
-dp_status dp_scan(const dp_cloud *mesh, const dp_scan_params *params, dp_cloud *out,
-		  uint32_t **view_of_point, dp_error *err);
-/* The eye positions of the views of dp_scan (3 * params->views doubles). */
-dp_status dp_scan_viewpoints(const dp_cloud *mesh, const dp_scan_params *params, double *eyes,
-			     dp_error *err);
-
-typedef struct dp_eval_params {
-	size_t samples;         /* uniform surface samples for completeness/coverage; default 20000 */
-	double coverage_factor; /* a sample is covered within factor x mean NN spacing; default 1.5 */
-	uint64_t seed;          /* surface sampling seed; default 1 */
-} dp_eval_params;
-
-void dp_eval_params_default(dp_eval_params *p);
-
-/* Metrics of a point set against a ground-truth mesh. Every length is in
- * units of the mesh's bbox diagonal. Coverage is relative to the points' own
- * spacing: evenly spread points covering the whole surface score about 1,
- * uniformly random ones only 1 - exp(-pi 1.5^2 / 4) = 0.83 (Poisson), and
- * overlapping scan views, denser where they overlap, score lower still. */
-typedef struct dp_eval_result {
-	size_t points, samples;
-	double diagonal;          /* bbox diagonal of the mesh, input units */
-	double accuracy_mean;     /* mean distance of the points to the surface */
-	double accuracy_p95;      /* its 95th percentile */
-	double accuracy_rms;      /* root mean square (= noise sigma for noisy exact samples) */
-	double accuracy_max;
-	double completeness_mean; /* mean distance of surface samples to the nearest point */
-	double coverage;          /* fraction of surface samples within coverage_radius of a point */
-	double coverage_radius;   /* coverage_factor x spacing_mean */
-	double spacing_mean;      /* mean nearest-neighbour distance among the points */
-	double spacing_cv;        /* its coefficient of variation (std / mean): uniformity */
-	int has_normals;          /* normal metrics below are valid (0 when points have none) */
-	size_t normals_used;      /* points with a usable (non-zero, finite) normal */
-	double normal_angle_deg;  /* mean angle to the nearest triangle's normal, ignoring sign */
-	double normal_flipped;    /* fraction more than 90 deg from the face normal (outward if the
-				   * mesh is wound counter-clockwise seen from outside) */
-	double seconds;
-} dp_eval_result;
-
-/*
- * Evaluates `points` (at least 2, finite; normals optional) against `mesh`.
- * params may be NULL for the defaults. Accuracy uses the exact point-triangle
- * distance; completeness and coverage use params->samples area-uniform
- * samples of the mesh. DP_ERR_EMPTY for fewer than 2 points, DP_ERR_ARG for
- * bad parameters or non-finite points.
- */
-dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_params *params,
-		  dp_eval_result *result, dp_error *err);
-/* Prints the result as one JSON object on one line; does not flush. */
-void dp_eval_json(const dp_eval_result *result, FILE *out);
-
-/* ------------------------------------------------ Fit to a built-in shape */
-/*
- * Owner: host/tools/shape_fit.c (the end-to-end quality checks of issue 3:
- * tests/test_pipeline_shapes.c, bench/bench_quality_sizes.c). Reentrant, no global
- * state. Lengths in shape units.
- */
-typedef struct dp_shape_fit {
-	size_t points;
-	double surface_mean;  /* mean dp_shape_surface_distance of the points */
-	double skeleton_mean; /* mean dp_shape_skeleton_distance of the points */
-	size_t inside;        /* cylinder, slab, torus: points within the half thickness (R, T/2, rho)
-	                         of the ideal skeleton; only these count for spread and largest_gap */
-	double spread;        /* cylinder, torus: fraction of the core curve's length within cell/2 of
-	                         an inside point's position along it; slab: fraction of the W x W
-	                         mid-plane's squares (side about `cell`) holding an inside point;
-	                         NAN for other shapes */
-	double largest_gap;   /* cylinder, torus: longest stretch of the core curve between consecutive
-	                         inside points (torus: cyclic; cylinder: between the first and the
-	                         last), as a fraction of its length; NAN for other shapes */
-} dp_shape_fit;
-
-/*
- * Measures `points` against `shape` (positions only). `cell` > 0 sets the
- * resolution of `spread`. Errors: DP_ERR_ARG (invalid shape, cell, or a
- * non-finite point), DP_ERR_EMPTY (no points), DP_ERR_NOMEM; on error *fit
- * is zeroed with spread and largest_gap NAN.
- */
-dp_status dp_shape_fit_points(const dp_shape *shape, const dp_cloud *points, double cell, dp_shape_fit *fit,
-			      dp_error *err);
+DP_API void dp_result_free(dp_result *result);
 
 #ifdef __cplusplus
 }

@@ -6,7 +6,7 @@
 #ifndef DP_TOOLS_BVH_H
 #define DP_TOOLS_BVH_H
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 /* Triangles per leaf: small enough that leaves are cheap to test, large
  * enough to keep the tree shallow. */

@@ -1,6 +1,6 @@
 /* Colours for renders: names and hex accepted on the command line, and a
  * default palette so every layer is told apart without choosing. */
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 #include <ctype.h>
 #include <stddef.h>

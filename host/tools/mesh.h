@@ -3,7 +3,7 @@
 #ifndef DP_TOOLS_MESH_H
 #define DP_TOOLS_MESH_H
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 /* Fails (naming `stage`) unless the mesh has faces, every index is in range
  * and every vertex is finite. */

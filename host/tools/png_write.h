@@ -2,7 +2,7 @@
 #ifndef DP_TOOLS_PNG_WRITE_H
 #define DP_TOOLS_PNG_WRITE_H
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 /* Writes w x h pixels (3 bytes each, rows top to bottom) as an 8-bit RGB PNG
  * at `path`, through a temporary file in the same folder that is renamed at

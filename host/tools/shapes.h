@@ -3,7 +3,7 @@
 #ifndef DP_TOOLS_SHAPES_H
 #define DP_TOOLS_SHAPES_H
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 #define DP_SHAPE_RESOLUTION_MIN 3
 #define DP_SHAPE_RESOLUTION_MAX 4096

@@ -8,7 +8,7 @@
 #include <stdint.h>
 #include <cmocka.h>
 
-#include "dpoints.h"
+#include "dpoints_tools.h"
 #include "core/common.h"
 
 /* The OpenCL context shared by one test program (built once: program builds
