@@ -1,5 +1,6 @@
 /* dpoints consolidate: the whole pipeline on one input, or a batch of inputs
  * sharing one OpenCL context and built program. */
+#include "cli/batch_run.h"
 #include "cli/consolidate.h"
 #include "core/common.h"
 
@@ -10,22 +11,25 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-void dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
+int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
 {
-	static double last_print;
-	static const char *last_stage;
-	(void)user;
+	static dp_cli_progress_state process;
+	dp_cli_progress_state *st = user ? user : &process;
+	const char *pre = st->prefix;
 	/* one line a second, and the first iteration of every stage */
-	if (stage == last_stage && elapsed - last_print < 1.0)
-		return;
-	last_stage = stage;
-	last_print = elapsed;
+	if (stage == st->stage && elapsed - st->last_print < 1.0)
+		return 0;
+	st->stage = stage;
+	st->last_print = elapsed;
 	if (strcmp(stage, "sink") == 0)
-		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, %.0f settled\n", elapsed, stage, iteration, value);
+		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %3d, %.0f settled\n", pre, elapsed, stage, iteration, value);
 	else if (strcmp(stage, "wlop") == 0)
-		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, mean move %.4f h\n", elapsed, stage, iteration, value);
+		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %3d, mean move %.4f h\n", pre, elapsed, stage, iteration,
+			value);
 	else
-		fprintf(stderr, "  [%7.1f s] %-9s iteration %3d, mean move %.4f r\n", elapsed, stage, iteration, value);
+		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %3d, mean move %.4f r\n", pre, elapsed, stage, iteration,
+			value);
+	return 0;
 }
 
 int dp_cli_mkdir(const char *cmd, const char *dir)
@@ -95,6 +99,11 @@ static int parse_samples(const char *text, size_t *count, double *factor)
 	return 0;
 }
 
+static int run_batch(const char *cmd, dp_consolidate_job *job, int backend, int quiet, const char *outdir,
+		     const dp_cli_list *all, int listed, size_t shard, size_t nshards, int skip_done,
+		     const dp_cli_list *devices);
+static void print_json(const dp_batch *b, int batch, size_t shard, size_t nshards);
+
 int dp_cmd_consolidate(int argc, char **argv)
 {
 	const char *cmd = "consolidate";
@@ -105,6 +114,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
 	int any_side = 0, old_orient = 0;
 	const char *samples = NULL;
+	const char *list_file = NULL, *shard_text = NULL;
+	int skip_done = 0;
 	job.up_axis = 1;
 	job.staged = 1;
 	double sigma_p = job.params.sink.sigma_p;
@@ -199,18 +210,28 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--up", CLI_CHOICE, &job.up_axis, "vertical axis of the renders", "x|y|z", NULL},
 		{"--ascii", CLI_FLAG, &job.ascii, "write ascii PLY", NULL, NULL},
 		{"--quiet", CLI_FLAG, &quiet, "no progress on stderr", NULL, NULL},
+		{"--inputs", CLI_STRING, &list_file,
+		 "file of input paths, one a line (# comments; - reads stdin), after those on the command line; "
+		 "always one sub-folder per input",
+		 NULL, NULL},
+		{"--shard", CLI_STRING, &shard_text,
+		 "I/N: run only inputs I, I+N, I+2N, ... (from 0) of the whole list "
+		 "(default: SLURM_ARRAY_TASK_ID/SLURM_ARRAY_TASK_COUNT when set, else all)",
+		 NULL, NULL},
+		{"--skip-done", CLI_FLAG, &skip_done,
+		 "skip an input whose folder holds its complete result (report.json and every file it lists)", NULL,
+		 NULL},
+		{"--json", CLI_FLAG, &job.json_stdout,
+		 "print the run's summary as one JSON object on stdout (progress and errors stay on stderr)", NULL,
+		 NULL},
 	};
-	static const char *inputs[MAX_INPUTS];
-	size_t ninputs;
+	static const char *positional[MAX_INPUTS];
+	size_t npositional;
 	int help;
-	int rc = cli_parse(cmd, "INPUT [INPUT ...] -o OUTDIR [options]", argc, argv, 2, opts,
-			   sizeof opts / sizeof opts[0], inputs, MAX_INPUTS, &ninputs, &help);
+	int rc = cli_parse(cmd, "INPUT [INPUT ...] | --inputs LIST  -o OUTDIR [options]", argc, argv, 2, opts,
+			   sizeof opts / sizeof opts[0], positional, MAX_INPUTS, &npositional, &help);
 	if (rc || help)
 		return rc;
-	if (ninputs == 0 || !outdir) {
-		fprintf(stderr, "dpoints %s: needs INPUT and -o OUTDIR (see dpoints %s --help)\n", cmd, cmd);
-		return DP_EXIT_INPUT;
-	}
 	if (samples && parse_samples(samples, &p->wlop.samples, &job.samples_factor)) {
 		fprintf(stderr, "dpoints %s: --samples: '%s' is neither a positive count nor a factor like 4x (see dpoints %s --help)\n",
 			cmd, samples, cmd);
@@ -223,68 +244,134 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->surface.orient_by_dpoint = !old_orient;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
-	size_t failed = 0;
-	int first_failure = 0;
-	dp_consolidate_summary *summary = calloc(ninputs, sizeof *summary);
-	char **dirs = calloc(ninputs, sizeof *dirs);
-	if (!summary || !dirs) {
-		free(summary);
-		free(dirs);
-		fprintf(stderr, "dpoints %s: out of memory\n", cmd);
-		return DP_EXIT_NOMEM;
-	}
-	/* every folder first: a later input may sit where an earlier one writes */
-	for (size_t i = 0; i < ninputs && !rc; i++) {
-		dirs[i] = ninputs == 1 ? strdup(outdir) : batch_dir(outdir, inputs[i], i, dirs);
-		if (!dirs[i]) {
+	dp_cli_list all = {0}, devices = {0};
+	for (size_t i = 0; i < npositional && !rc; i++)
+		if (dp_cli_list_add(&all, positional[i])) {
 			fprintf(stderr, "dpoints %s: out of memory\n", cmd);
 			rc = DP_EXIT_NOMEM;
-		} else {
-			rc = cli_check_folder_not_input(cmd, dirs[i], inputs, ninputs);
-			if (!rc)
-				rc = dp_cli_check_result_dir(cmd, dirs[i]);
 		}
+	if (!rc && list_file)
+		rc = dp_cli_read_input_list(cmd, list_file, &all);
+	size_t shard, nshards;
+	if (!rc)
+		rc = dp_cli_shard(cmd, shard_text, &shard, &nshards);
+	if (!rc)
+		rc = dp_cli_device_list(cmd, device, &devices);
+	if (!rc && (all.n == 0 || !outdir)) {
+		fprintf(stderr, "dpoints %s: needs INPUT (or --inputs LIST) and -o OUTDIR (see dpoints %s --help)\n", cmd,
+			cmd);
+		rc = DP_EXIT_INPUT;
+	}
+	if (rc) {
+		dp_cli_list_free(&all);
+		dp_cli_list_free(&devices);
+		return rc;
+	}
+	rc = run_batch(cmd, &job, backend, quiet, outdir, &all, list_file != NULL, shard, nshards, skip_done,
+		       &devices);
+	dp_cli_list_free(&all);
+	dp_cli_list_free(&devices);
+	return rc;
+}
+
+/* What the whole list (not only this shard) decides: folder names, and
+ * whether each input gets a sub-folder, so every shard writes the same
+ * folders a single run would. */
+static int run_batch(const char *cmd, dp_consolidate_job *job, int backend, int quiet, const char *outdir,
+		     const dp_cli_list *all, int listed, size_t shard, size_t nshards, int skip_done,
+		     const dp_cli_list *devices)
+{
+	int batch = all->n > 1 || listed;
+	int rc = 0;
+	char **all_dirs = calloc(all->n, sizeof *all_dirs);
+	size_t ninputs = 0;
+	for (size_t i = shard; i < all->n; i += nshards)
+		ninputs++;
+	const char **inputs = calloc(ninputs ? ninputs : 1, sizeof *inputs);
+	char **dirs = calloc(ninputs ? ninputs : 1, sizeof *dirs);
+	dp_consolidate_summary *summary = calloc(ninputs ? ninputs : 1, sizeof *summary);
+	if (!all_dirs || !inputs || !dirs || !summary) {
+		fprintf(stderr, "dpoints %s: out of memory\n", cmd);
+		rc = DP_EXIT_NOMEM;
+	}
+	for (size_t i = 0; i < all->n && !rc; i++) {
+		all_dirs[i] = !batch ? strdup(outdir) : batch_dir(outdir, all->items[i], i, all_dirs);
+		if (!all_dirs[i]) {
+			fprintf(stderr, "dpoints %s: out of memory\n", cmd);
+			rc = DP_EXIT_NOMEM;
+		}
+	}
+	size_t nskipped = 0;
+	/* every folder first: a later input may sit where an earlier one writes */
+	for (size_t i = shard, k = 0; i < all->n && !rc; i += nshards, k++) {
+		inputs[k] = all->items[i];
+		dirs[k] = all_dirs[i];
+		if (skip_done && dp_cli_result_done(dirs[k], inputs[k])) {
+			summary[k].skipped = 1;
+			nskipped++;
+			continue;
+		}
+		rc = cli_check_folder_not_input(cmd, dirs[k], (const char *const *)all->items, all->n);
+		if (!rc)
+			rc = dp_cli_check_result_dir(cmd, dirs[k]);
 	}
 	struct stat sb;
 	int outdir_existed = stat(outdir, &sb) == 0;
-	dp_context *ctx = NULL;
-	if (!rc && !(rc = dp_cli_mkdir(cmd, outdir)) && (rc = cli_open_context(cmd, backend, device, &ctx)) &&
-	    !outdir_existed)
+	dp_batch b = {cmd, inputs, dirs, summary, ninputs, 0, quiet, batch, 0, 0};
+	job->backend_name = backend ? "ref" : "cl";
+	if (!rc && !quiet && nskipped)
+		fprintf(stderr, "dpoints %s: %zu of %zu inputs already done (--skip-done)\n", cmd, nskipped, ninputs);
+	if (!rc && nskipped < ninputs && !(rc = dp_cli_mkdir(cmd, outdir)) &&
+	    (rc = dp_cli_batch_run(&b, job, backend, devices)) && !outdir_existed)
 		rmdir(outdir);
-	if (rc) {
-		for (size_t i = 0; i < ninputs; i++)
-			free(dirs[i]);
-		free(dirs);
-		free(summary);
-		return rc;
-	}
-	if (!quiet)
-		dp_context_set_progress(ctx, dp_cli_progress, NULL);
-	job.backend_name = backend ? "ref" : "cl";
-	job.device_name = dp_context_device_name(ctx);
-
-	for (size_t i = 0; i < ninputs; i++) {
-		const char *dir = dirs[i];
-		if (!quiet && ninputs > 1)
-			fprintf(stderr, "[%zu/%zu] %s\n", i + 1, ninputs, inputs[i]);
-		int r = dp_cli_consolidate_one(cmd, ctx, &job, inputs[i], dir, &summary[i]);
-		if (r) {
-			failed++;
-			if (!first_failure)
-				first_failure = r;
+	if (!rc) {
+		if (job->json_stdout)
+			print_json(&b, batch, shard, nshards);
+		else if (batch)
+			dp_cli_print_batch_summary(stdout, inputs, summary, ninputs);
+		if (b.failed && batch)
+			fprintf(stderr, "dpoints %s: %zu of %zu inputs failed\n", cmd, b.failed, ninputs);
+		/* a run that produced nothing leaves nothing: rmdir only removes it empty */
+		if (ninputs && b.failed == ninputs && !outdir_existed) {
+			for (size_t k = 0; k < ninputs; k++)
+				dp_cli_clear_failure(dirs[k]);
+			rmdir(outdir);
 		}
+		rc = b.first_failure;
 	}
-	if (ninputs > 1)
-		dp_cli_print_batch_summary(stdout, inputs, summary, ninputs);
-	free(summary);
-	for (size_t i = 0; i < ninputs; i++)
-		free(dirs[i]);
+	for (size_t i = 0; all_dirs && i < all->n; i++)
+		free(all_dirs[i]);
+	free(all_dirs);
+	free(inputs);
 	free(dirs);
-	dp_context_free(ctx);
-	if (failed && ninputs > 1)
-		fprintf(stderr, "dpoints %s: %zu of %zu inputs failed\n", cmd, failed, ninputs);
-	/* a run that produced nothing leaves nothing: rmdir only removes it empty */
-	if (failed == ninputs && !outdir_existed)
-		rmdir(outdir);
-	return first_failure;
+	free(summary);
+	return rc;
+}
+
+/* One input: its report's summary and results (a single run), or every
+ * input of this shard with the counts (a batch). */
+static void print_json(const dp_batch *b, int batch, size_t shard, size_t nshards)
+{
+	size_t ok = 0, skipped = 0;
+	if (batch)
+		printf("{\"shard\":\"%zu/%zu\",\"inputs\":[", shard, nshards);
+	for (size_t k = 0; k < b->n; k++) {
+		const dp_consolidate_summary *s = &b->summary[k];
+		char path[4096];
+		snprintf(path, sizeof path, "%s/report.json", b->dirs[k]);
+		dp_json *report = s->ok || s->skipped ? dp_json_read_file(path) : NULL;
+		const char *status = s->skipped ? "skipped" : s->ok ? "ok" : "failed";
+		ok += s->ok;
+		skipped += s->skipped;
+		if (k)
+			putchar(',');
+		dp_cli_summary_row_json(stdout, report, b->inputs[k], b->dirs[k],
+					report ? dp_json_string(report, "device") : NULL, status,
+					s->ok || s->skipped ? NULL : s->error, 1);
+		dp_json_free(report);
+	}
+	if (batch)
+		printf("],\"ok\":%zu,\"failed\":%zu,\"skipped\":%zu}", ok, b->n - ok - skipped, skipped);
+	putchar('\n');
+	fflush(stdout);
 }

@@ -13,6 +13,7 @@ typedef struct dp_consolidate_job {
 	 * 0 writes into the folder itself, beside files of the caller (demo) */
 	int staged;
 	const char *backend_name, *device_name;
+	int json_stdout; /* stdout is one JSON document (--json): no per-input line there */
 } dp_consolidate_job;
 
 /* One row of the batch summary. */
@@ -23,6 +24,8 @@ typedef struct dp_consolidate_summary {
 	double r, seconds;
 	int iterations[4]; /* wlop, sink, skeleton, surface */
 	char capped[64];   /* the stages that stopped at their iteration cap, comma-separated, or "-" */
+	int skipped;       /* --skip-done found the result complete */
+	char device[64];   /* the --device entry of the worker that ran it ("" the default) */
 } dp_consolidate_summary;
 
 /* Reads `input`, runs the pipeline and writes every output into `dir`
@@ -40,8 +43,15 @@ dp_status dp_cli_render_result(const dp_cloud *in, const dp_result *r, const flo
 
 void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_consolidate_summary *rows,
 				size_t n);
-/* Progress lines on stderr, at most one a second per stage. */
-void dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
+/* Progress lines on stderr, at most one a second per stage. `user` is a
+ * dp_cli_progress_state (one per context, as workers run side by side) or
+ * NULL for one shared by the whole process. */
+typedef struct dp_cli_progress_state {
+	const char *stage;
+	double last_print;
+	char prefix[48]; /* before every line: which worker, in a batch over devices */
+} dp_cli_progress_state;
+int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
 /* mkdir -p; 0 or an exit code after one error line. */
 int dp_cli_mkdir(const char *cmd, const char *dir);
 

@@ -71,6 +71,18 @@ static void json_refine_params(json_writer *w, const dp_refine_params *p)
 	json_end_object(w);
 }
 
+/* Whether a run of `job` writes the result file `name` (report.json aside). */
+static int result_file_written(const dp_consolidate_job *job, const char *name)
+{
+	if (strcmp(name, "report.json") == 0)
+		return 0;
+	if (strcmp(name, "wlop.ply") == 0 || strcmp(name, "anchors.ply") == 0)
+		return job->save_stages;
+	if (strstr(name, ".png"))
+		return job->render;
+	return 1;
+}
+
 static void fill_report(json_writer *w, const void *varg)
 {
 	const report_arg *a = varg;
@@ -144,6 +156,12 @@ static void fill_report(json_writer *w, const void *varg)
 	json_end_object(w);
 	json_num(w, "seconds_total", r->seconds_total);
 	json_end_object(w);
+	/* what --skip-done checks for: the folder is complete when all are there */
+	json_array(w, "files");
+	for (int k = 0; dp_cli_result_files[k]; k++)
+		if (result_file_written(a->job, dp_cli_result_files[k]))
+			json_str(w, NULL, dp_cli_result_files[k]);
+	json_end_array(w);
 	json_end_object(w);
 }
 
@@ -275,7 +293,8 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 				"(report.json has the numbers; raise --wlop-iters, --sink-iters, --skeleton-iters or "
 				"--surface-iters)\n",
 			cmd, label, summary->capped);
-	printf("consolidate: %s: %zu points -> %zu deep points, r = %.6g; iterations wlop %d, sink %d (%zu unsettled), "
+	if (!job->json_stdout)
+		printf("consolidate: %s: %zu points -> %zu deep points, r = %.6g; iterations wlop %d, sink %d (%zu unsettled), "
 	       "skeleton %d, surface %d; seconds wlop %.2f, normals %.2f, sink %.2f, skeleton %.2f, surface %.2f, "
 	       "total %.2f -> %s\n",
 	       label, in->n, res->surface.n, res->r, res->wlop_stats.iterations, res->sink_stats.iterations,
@@ -312,29 +331,39 @@ int dp_cli_consolidate_one(const char *cmd, dp_context *ctx, const dp_consolidat
 void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_consolidate_summary *rows, size_t n)
 {
 	/* whole paths, however long: a cut path may not say which file failed */
-	int width = (int)strlen("input");
-	for (size_t i = 0; i < n; i++)
+	int width = (int)strlen("input"), dwidth = (int)strlen("device");
+	for (size_t i = 0; i < n; i++) {
 		if ((int)strlen(inputs[i]) > width)
 			width = (int)strlen(inputs[i]);
-	size_t ok = 0;
+		if ((int)strlen(rows[i].device) > dwidth)
+			dwidth = (int)strlen(rows[i].device);
+	}
+	size_t ok = 0, skipped = 0;
 	double seconds = 0.0;
-	fprintf(out, "\n%-*s %8s %8s %10s %18s %8s %-24s  %s\n", width, "input", "points", "dpoints", "r",
-		"iters w/s/k/s", "seconds", "capped", "status");
+	fprintf(out, "\n%-*s %8s %8s %10s %18s %8s %-24s %-*s  %s\n", width, "input", "points", "dpoints", "r",
+		"iters w/s/k/s", "seconds", "capped", dwidth, "device", "status");
 	for (size_t i = 0; i < n; i++) {
 		const dp_consolidate_summary *s = &rows[i];
+		const char *device = s->device[0] ? s->device : "-";
 		if (s->ok) {
 			char iters[64];
 			snprintf(iters, sizeof iters, "%d/%d/%d/%d", s->iterations[0], s->iterations[1],
 				 s->iterations[2], s->iterations[3]);
-			fprintf(out, "%-*s %8zu %8zu %10.4g %18s %8.2f %-24s  ok\n", width, inputs[i], s->points_in,
-				s->points_out, s->r, iters, s->seconds, s->capped);
+			fprintf(out, "%-*s %8zu %8zu %10.4g %18s %8.2f %-24s %-*s  ok\n", width, inputs[i], s->points_in,
+				s->points_out, s->r, iters, s->seconds, s->capped, dwidth, device);
 			ok++;
 			seconds += s->seconds;
+		} else if (s->skipped) {
+			fprintf(out, "%-*s %8s %8s %10s %18s %8s %-24s %-*s  skipped: done before\n", width, inputs[i], "-",
+				"-", "-", "-", "-", "-", dwidth, "-");
+			skipped++;
 		} else {
-			fprintf(out, "%-*s %8s %8s %10s %18s %8s %-24s  FAILED: %s\n", width, inputs[i], "-", "-", "-",
-				"-", "-", "-", s->error);
+			fprintf(out, "%-*s %8s %8s %10s %18s %8s %-24s %-*s  FAILED: %s\n", width, inputs[i], "-", "-", "-",
+				"-", "-", "-", dwidth, device, s->error);
 		}
 	}
-	fprintf(out, "%zu input%s: %zu ok, %zu failed; %.2f s in the pipeline\n", n, n == 1 ? "" : "s", ok, n - ok,
-		seconds);
+	fprintf(out, "%zu input%s: %zu ok, %zu failed", n, n == 1 ? "" : "s", ok, n - ok - skipped);
+	if (skipped)
+		fprintf(out, ", %zu skipped (done before)", skipped);
+	fprintf(out, "; %.2f s in the pipeline\n", seconds);
 }

@@ -1,3 +1,4 @@
+#include "cli/batch_run.h"
 #include "cli/cli.h"
 
 #include <string.h>
@@ -13,6 +14,7 @@ static const struct {
 	{"scan", dp_cmd_scan, "virtual range scan of a mesh or a built-in shape"},
 	{"eval", dp_cmd_eval, "accuracy, completeness, coverage, normals against a ground-truth mesh"},
 	{"render", dp_cmd_render, "render point sets and deep points to a PNG"},
+	{"summary", dp_cmd_summary, "one table (or JSON lines) of every consolidate report under a folder"},
 	{"devices", dp_cmd_devices, "list the OpenCL platforms and devices"},
 };
 
