@@ -3,7 +3,7 @@
  * neighbourhoods are judged (README "Results measured here"), with the OpenCL
  * backend only: this measures quality, bench_stages compares the backends.
  *
- *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S]
+ *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -15,7 +15,7 @@
  *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps.
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
-#include "dpoints_tools.h"
+#include "dpoints.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -36,8 +36,12 @@ typedef struct options {
 	int nsizes;
 	const char *data;
 	const char *device;
+	size_t coarse;    /* --coarse: the coarse level's count instead of the default */
+	const char *save; /* folder for each case's input, surface and skeleton PLYs, or NULL */
 	uint64_t seed;
 } options;
+
+static const options *opts;
 
 static int wanted(const options *o, const char *name)
 {
@@ -102,6 +106,8 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	dp_params_default(&p);
 	if (samples)
 		p.wlop.samples = samples;
+	if (opts->coarse)
+		p.refine.coarse_samples = opts->coarse;
 	dp_result res = {0};
 	dp_cloud guessed = {0};
 	dp_eval_result ei, es, eg;
@@ -115,6 +121,16 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	print_eval("surface", &es);
 	if (guessed.n >= 2 && dp_eval(mesh, &guessed, NULL, &eg, &err) == DP_OK)
 		print_eval("surface_unsupported", &eg);
+	if (opts->save) {
+		char path[4096];
+		const char *what[3] = {"input", "surface", "skeleton"};
+		const dp_cloud *clouds[3] = {in, &res.surface, &res.skeleton};
+		for (int c = 0; c < 3; c++) {
+			snprintf(path, sizeof path, "%s/%s_%s.ply", opts->save, name, what[c]);
+			if (dp_cloud_write_ply(path, clouds[c], 0, &err) != DP_OK)
+				fprintf(stderr, "bench_completion: %s\n", err.message);
+		}
+	}
 	printf(",\"levels_detail\":[");
 	for (int l = 0; l < res.levels; l++)
 		printf("%s{\"points\":%zu,\"r\":%.5g,\"iterations\":%d,\"seconds\":%.3f,\"pairs\":%.4g}",
@@ -269,6 +285,8 @@ static int parse(int argc, char **argv, options *o)
 	o->cases = "sphere,bunny1,bunny2,chair,statue";
 	o->data = getenv("DP_DATA_DIR") ? getenv("DP_DATA_DIR") : "../shared/data";
 	o->device = NULL;
+	o->save = NULL;
+	o->coarse = 0;
 	o->seed = 7;
 	for (int i = 1; i + 1 < argc; i += 2) {
 		if (!strcmp(argv[i], "--case"))
@@ -279,6 +297,10 @@ static int parse(int argc, char **argv, options *o)
 			o->data = argv[i + 1];
 		else if (!strcmp(argv[i], "--device"))
 			o->device = argv[i + 1];
+		else if (!strcmp(argv[i], "--coarse"))
+			o->coarse = strtoull(argv[i + 1], NULL, 10);
+		else if (!strcmp(argv[i], "--save"))
+			o->save = argv[i + 1];
 		else if (!strcmp(argv[i], "--seed"))
 			o->seed = strtoull(argv[i + 1], NULL, 10);
 		else
@@ -301,9 +323,10 @@ static int parse(int argc, char **argv, options *o)
 int main(int argc, char **argv)
 {
 	options o;
+	opts = &o;
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,statue] "
-				"[--samples M,...] [--data DIR] [--device D] [--seed S]\n");
+				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;

@@ -8,7 +8,7 @@ source "$(dirname "$0")/support/cli_check.sh"
 expect_ok scan scan --shape sphere --views 6 --layout sphere --res 48 --noise 0.003 -o "$tmp/sphere.ply" || finish
 
 # Every parameter away from its default, so the report shows what was used.
-params=(--samples 400 --h-factor 4 --mu 0.4 --iters 60 --tol 0.003 --theta-k 8 --weight l1 --seed 7
+params=(--samples 400 --h-factor 4 --mu 0.4 --iters 60 --tol 0.003 --stall-tol 0.02 --window 8 --min-drop 0.2 --theta-k 8 --weight l1 --seed 7
 	--normal-k 12 --graph-k 6)
 if expect_ok wlop wlop "$tmp/sphere.ply" -o "$tmp/wlop.ply" --report "$tmp/report.json" "${params[@]}"; then
 	if grep -qE '^wlop: [0-9]+ points in, 400 out, h = ' "$tmp/wlop.out"; then
@@ -45,7 +45,7 @@ print("400 unit normals, %d inward" % inward)
 import json, sys
 r = json.load(open(sys.argv[1]))
 inputs = int(sys.argv[2])
-want = {"wlop": {"samples": 400, "ratio": 0.1, "h": 0, "h_factor": 4, "mu": 0.4, "max_iters": 60, "tol": 0.003,
+want = {"wlop": {"samples": 400, "ratio": 0.1, "h": 0, "h_factor": 4, "mu": 0.4, "max_iters": 60, "tol": 0.003, "stall_tol": 0.02, "window": 8, "min_drop": 0.2,
                  "theta_k": 8, "weight": "l1", "sqrt_density": False, "seed": 7},
         "normals": {"k": 12, "k_graph": 6, "use_viewpoint": False}}
 p = r["parameters"]

@@ -134,6 +134,13 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--wlop-iters", CLI_INT, &p->wlop.max_iters, "WLOP iteration cap", NULL, NULL},
 		{"--wlop-tol", CLI_DOUBLE, &p->wlop.tol, "WLOP stops when the mean move of an iteration is below tol * h",
 		 NULL, NULL},
+		{"--wlop-stall-tol", CLI_DOUBLE, &p->wlop.stall_tol,
+		 "WLOP also stops when the mean move is below this * h and fell by less than --wlop-min-drop over "
+		 "--wlop-window iterations",
+		 NULL, NULL},
+		{"--wlop-window", CLI_INT, &p->wlop.window, "iterations of WLOP's stall test", NULL, NULL},
+		{"--wlop-min-drop", CLI_DOUBLE, &p->wlop.min_drop, "relative fall of the mean move that keeps WLOP going",
+		 NULL, NULL},
 		{"--wlop-mu", CLI_DOUBLE, &p->wlop.mu, "WLOP repulsion weight", NULL, NULL},
 		{"--theta-k", CLI_DOUBLE, &p->wlop.theta_k, "WLOP theta(d) = exp(-k d^2/h^2)", NULL, NULL},
 		{"--weight", CLI_CHOICE, &weight, "WLOP attraction: L1 median (Huang 2009) or Gaussian mean (CGAL)",

@@ -43,6 +43,9 @@ void dp_cli_json_wlop_params(json_writer *w, const dp_wlop_params *p)
 	json_num(w, "mu", p->mu);
 	json_int(w, "max_iters", p->max_iters);
 	json_num(w, "tol", p->tol);
+	json_num(w, "stall_tol", p->stall_tol);
+	json_int(w, "window", p->window);
+	json_num(w, "min_drop", p->min_drop);
 	json_num(w, "theta_k", p->theta_k);
 	json_str(w, "weight", p->weight == DP_WLOP_GAUSSIAN ? "gaussian" : "l1");
 	json_bool(w, "sqrt_density", p->sqrt_density);
@@ -119,6 +122,12 @@ int dp_cmd_wlop(int argc, char **argv)
 		 NULL, NULL},
 		{"--iters", CLI_INT, &run.wp.max_iters, "iteration cap", NULL, NULL},
 		{"--tol", CLI_DOUBLE, &run.wp.tol, "stop when the mean move of an iteration is below tol * h", NULL,
+		 NULL},
+		{"--stall-tol", CLI_DOUBLE, &run.wp.stall_tol,
+		 "also stop when the mean move is below this * h and fell by less than --min-drop over --window iterations",
+		 NULL, NULL},
+		{"--window", CLI_INT, &run.wp.window, "iterations of the stall test", NULL, NULL},
+		{"--min-drop", CLI_DOUBLE, &run.wp.min_drop, "relative fall of the mean move that keeps WLOP going", NULL,
 		 NULL},
 		{"--mu", CLI_DOUBLE, &run.wp.mu, "repulsion weight", NULL, NULL},
 		{"--theta-k", CLI_DOUBLE, &run.wp.theta_k, "theta(d) = exp(-k d^2/h^2); 16 (Huang 2009) or 4", NULL,

@@ -109,6 +109,7 @@ static void fill_report(json_writer *w, const void *varg)
 	json_num(w, "h", r->wlop_stats.h);
 	json_int(w, "iterations", r->wlop_stats.iterations);
 	json_bool(w, "converged", r->wlop_stats.converged);
+	json_bool(w, "stalled", r->wlop_stats.stalled);
 	json_num(w, "last_mean_move_h", r->wlop_stats.last_mean_move);
 	json_num(w, "last_max_move_h", r->wlop_stats.last_max_move);
 	json_num(w, "seconds", r->wlop_stats.seconds_density + r->wlop_stats.seconds_iterations);

@@ -232,6 +232,10 @@ typedef struct dp_wlop_params {
 	int max_iters;         /* >= 0; default 100 */
 	double tol;            /* stop when the mean move of an iteration < tol * h; default 0.002
 	                          (the largest move never settles on real scans: host/stages/wlop.c) */
+	double stall_tol;      /* ... or when it is < stall_tol * h and fell by less than min_drop over the last
+	                          window iterations (on real scans the mean decays too slowly for tol); 0.01 */
+	int window;            /* >= 1; default 10 */
+	double min_drop;       /* in [0, 1); default 0.1 */
 	double theta_k;        /* θ(d) = exp(-theta_k d²/h²); default 4 (Huang et al.: 16) */
 	dp_wlop_weight weight; /* default DP_WLOP_GAUSSIAN */
 	int sqrt_density;      /* sample density sqrt(1+Σθ) instead of 1+Σθ; default 0 */
@@ -244,7 +248,8 @@ typedef struct dp_wlop_stats {
 	size_t samples;          /* m */
 	double h;                /* support radius used */
 	int iterations;          /* iterations run */
-	int converged;           /* the mean move fell below tol * h (else max_iters stopped it) */
+	int converged;           /* stopped by tol or the stall test (else max_iters stopped it) */
+	int stalled;             /* ... and by the stall test */
 	double last_mean_move;   /* mean move of the last iteration, in units of h */
 	double last_max_move;    /* largest move of the last iteration, in units of h */
 	double seconds;          /* whole call */
