@@ -15,7 +15,7 @@
  *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps.
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
-#include "dpoints.h"
+#include "dpoints_tools.h"
 
 #include <math.h>
 #include <stdio.h>

@@ -50,8 +50,10 @@ void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user)
 	ctx->progress_user = user;
 }
 
-void dp_progress(dp_context *ctx, const char *stage, int iteration, double value)
+dp_status dp_progress(dp_context *ctx, const char *stage, int iteration, double value, dp_error *err)
 {
-	if (ctx->progress)
-		ctx->progress(ctx->progress_user, stage, iteration, value, dp_seconds() - ctx->started);
+	if (ctx->progress && ctx->progress(ctx->progress_user, stage, iteration, value, dp_seconds() - ctx->started))
+		return dp_fail(err, DP_ERR_CANCELLED, "%s: cancelled by the progress callback at iteration %d", stage,
+			       iteration);
+	return DP_OK;
 }

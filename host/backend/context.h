@@ -14,8 +14,10 @@ struct dp_context {
 	double started;          /* dp_seconds() at creation, for progress reports */
 };
 
-/* Reports one iteration of a stage to the progress callback, if any. */
-void dp_progress(dp_context *ctx, const char *stage, int iteration, double value);
+/* Reports one iteration of a stage to the progress callback, if any.
+ * DP_ERR_CANCELLED (err says which stage and iteration) when the callback
+ * asked to stop: the stage then ends as on any error. */
+dp_status dp_progress(dp_context *ctx, const char *stage, int iteration, double value, dp_error *err);
 
 /* Pairs closer than DP_PAIR_EPS times the operator's radius are skipped by
  * every neighbour sum: they are a point and itself, or exact duplicates, and

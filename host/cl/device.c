@@ -108,18 +108,53 @@ dp_status dp_cl_choose(const char *spec, dp_cl_device *chosen, dp_error *err)
 	return dp_fail(err, DP_ERR_NO_DEVICE, "OpenCL: no device name contains '%s' (see `dpoints devices`)", spec);
 }
 
+dp_status dp_devices(dp_device_info **list, size_t *count, dp_error *err)
+{
+	if (!list || !count)
+		return dp_fail(err, DP_ERR_ARG, "devices: NULL list or count");
+	*list = NULL;
+	*count = 0;
+	dp_cl_device found[DP_CL_MAX_DEVICES];
+	size_t n = 0;
+	dp_status st = dp_cl_devices(found, DP_CL_MAX_DEVICES, &n, err);
+	if (st != DP_OK || n == 0)
+		return st;
+	dp_device_info *out = calloc(n, sizeof *out);
+	if (!out)
+		return dp_fail(err, DP_ERR_NOMEM, "devices: out of memory");
+	for (size_t i = 0; i < n; i++) {
+		out[i].index = i;
+		snprintf(out[i].name, sizeof out[i].name, "%s", found[i].name);
+		out[i].type = strcmp(found[i].type, "CPU") == 0   ? DP_DEVICE_CPU
+			      : strcmp(found[i].type, "GPU") == 0 ? DP_DEVICE_GPU
+								  : DP_DEVICE_OTHER;
+		out[i].compute_units = (unsigned)found[i].compute_units;
+		out[i].global_mem_bytes = (uint64_t)found[i].global_mem;
+	}
+	*list = out;
+	*count = n;
+	return DP_OK;
+}
+
+void dp_devices_free(dp_device_info *list)
+{
+	free(list);
+}
+
 dp_status dp_list_devices(FILE *out, dp_error *err)
 {
-	dp_cl_device list[DP_CL_MAX_DEVICES];
-	size_t n = 0;
-	dp_status st = dp_cl_devices(list, DP_CL_MAX_DEVICES, &n, err);
+	static const char *const type_names[] = {"CPU", "GPU", "other"};
+	dp_device_info *list;
+	size_t n;
+	dp_status st = dp_devices(&list, &n, err);
 	if (st != DP_OK)
 		return st;
 	if (n == 0)
 		return dp_fail(err, DP_ERR_NO_DEVICE,
 			       "OpenCL: no platform or device found (install pocl-opencl-icd for the CPU)");
 	for (size_t i = 0; i < n; i++)
-		fprintf(out, "%zu: %s [%s, %u compute units, %.1f GiB]\n", i, list[i].name, list[i].type,
-			(unsigned)list[i].compute_units, (double)list[i].global_mem / (1024.0 * 1024.0 * 1024.0));
+		fprintf(out, "%zu: %s [%s, %u compute units, %.1f GiB]\n", i, list[i].name, type_names[list[i].type],
+			list[i].compute_units, (double)list[i].global_mem_bytes / (1024.0 * 1024.0 * 1024.0));
+	dp_devices_free(list);
 	return DP_OK;
 }

@@ -18,10 +18,10 @@ typedef struct wlop_run {
 
 /* The library reports seconds since the context was made; reading came before
  * it, so the lines count from the command's start like the other lines here. */
-static void wlop_progress(void *user, const char *stage, int iteration, double value, double elapsed)
+static int wlop_progress(void *user, const char *stage, int iteration, double value, double elapsed)
 {
 	const wlop_run *run = user;
-	dp_cli_progress(NULL, stage, iteration, value, run->context_start + elapsed);
+	return dp_cli_progress(NULL, stage, iteration, value, run->context_start + elapsed);
 }
 
 /* A line before a step with no iterations to report, which on millions of

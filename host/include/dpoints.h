@@ -187,17 +187,56 @@ DP_API void dp_context_free(dp_context *ctx);
 DP_API const char *dp_context_device_name(const dp_context *ctx);
 DP_API dp_backend_kind dp_context_backend(const dp_context *ctx);
 
-/* Called after every iteration of a long stage with the stage name ("wlop",
+/*
+ * Called after every iteration of a long stage with the stage name ("wlop",
  * "sink", "skeleton", "surface"), the iteration (from 1), a stage-specific
  * value (sink: settled points; skeleton and surface: mean move in r; WLOP:
- * mean move in h) and the seconds since the context was created. Runs on the calling
- * thread; NULL turns reports off (the default). */
-typedef void (*dp_progress_fn)(void *user, const char *stage, int iteration, double value, double elapsed);
+ * mean move in h) and the seconds since the context was created. Runs on the
+ * thread that called the stage, between iterations (an iteration of a large
+ * input may take seconds, so a stop takes effect within one).
+ * Return 0 to go on; any other value stops the running call, which frees
+ * what it made, leaves its outputs zeroed as on any error and returns
+ * DP_ERR_CANCELLED. `stage` is a static string; the callback must not use
+ * the context it reports on.
+ */
+typedef int (*dp_progress_fn)(void *user, const char *stage, int iteration, double value, double elapsed);
+/* Sets the callback of every later call on ctx; NULL turns reports off (the
+ * default). `user` is passed through and stays the caller's. Not thread-safe
+ * with a call running on ctx. */
 DP_API void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
 
-/* Prints every OpenCL platform and device with its index, one per line, as
- * accepted by dp_context_create's `device`. DP_ERR_NO_DEVICE when there is
- * none, DP_ERR_CL when the query fails. Reentrant. */
+typedef enum dp_device_type {
+	DP_DEVICE_CPU = 0,
+	DP_DEVICE_GPU = 1,
+	DP_DEVICE_OTHER = 2   /* accelerators, custom devices */
+} dp_device_type;
+
+#define DP_DEVICE_NAME_MAX 400
+
+/* One OpenCL device, as dp_devices lists it. */
+typedef struct dp_device_info {
+	size_t index;                  /* its place in the list: dp_context_create accepts it in decimal */
+	char name[DP_DEVICE_NAME_MAX]; /* "platform / device"; any substring of it selects it too */
+	dp_device_type type;
+	unsigned compute_units;
+	uint64_t global_mem_bytes;
+} dp_device_info;
+
+/*
+ * Every OpenCL device of every platform, in the order of the indices
+ * dp_context_create accepts. On success *list is a malloc'ed array of *count
+ * entries that the caller releases with dp_devices_free; no OpenCL platform
+ * installed is not an error (*list NULL, *count 0). Errors: DP_ERR_ARG (NULL
+ * list or count), DP_ERR_CL when a query fails, DP_ERR_NOMEM; *list is NULL
+ * and *count 0 on error. Reentrant.
+ */
+DP_API dp_status dp_devices(dp_device_info **list, size_t *count, dp_error *err);
+/* Frees a list from dp_devices; NULL is fine. */
+DP_API void dp_devices_free(dp_device_info *list);
+
+/* Prints the list of dp_devices, one device per line with its index, type,
+ * compute units and memory. DP_ERR_NO_DEVICE when there is none, DP_ERR_CL
+ * when the query fails. Reentrant. */
 DP_API dp_status dp_list_devices(FILE *out, dp_error *err);
 
 /* ------------------------------------------------------------------- WLOP */

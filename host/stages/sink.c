@@ -341,7 +341,8 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		stats->settled_medial += by_medial;
 		stats->settled_slow += by_slow;
 		settled_total += by_front + by_medial + by_slow;
-		dp_progress(ctx, "sink", it, (double)settled_total);
+		if ((rc = dp_progress(ctx, "sink", it, (double)settled_total, err)) != DP_OK)
+			return rc;
 	}
 	stats->unsettled = st->n - settled_total;
 	return DP_OK;

@@ -338,7 +338,8 @@ dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r, const 
 			break;
 		}
 		done = converged(w.moves, t, params);
-		dp_progress(ctx, "skeleton", t + 1, w.moves[t]);
+		if ((st = dp_progress(ctx, "skeleton", t + 1, w.moves[t], err)) != DP_OK)
+			break;
 	}
 	if (st == DP_OK && stats) {
 		stats->iterations = t;

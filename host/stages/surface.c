@@ -429,7 +429,8 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		st->normals_disagreeing = update_normals(w, n, r, p->orient_by_dpoint);
 		st->iterations = t;
 		st->last_mean_move = w->move[t];
-		dp_progress(ctx, "surface", t, w->move[t]);
+		if ((s = dp_progress(ctx, "surface", t, w->move[t], err)) != DP_OK)
+			return s;
 		if (stop_test(w, t, p)) {
 			st->converged = 1;
 			break;

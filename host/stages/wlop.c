@@ -340,7 +340,8 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 		stats->iterations = it + 1;
 		stats->last_max_move = max_move / h;
 		stats->last_mean_move = mean_move / h;
-		dp_progress(ctx, "wlop", it + 1, stats->last_mean_move);
+		if ((st = dp_progress(ctx, "wlop", it + 1, stats->last_mean_move, err)) != DP_OK)
+			goto done;
 		moves[it] = stats->last_mean_move;
 		if (stats->last_mean_move < params->tol) {
 			stats->converged = 1;
