@@ -3,6 +3,7 @@
 #include "testkit.h"
 
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 
 static void test_version(void **state)
@@ -119,12 +120,97 @@ static void test_cancel(void **state)
 	dp_cloud_free(&scan);
 }
 
+static int file_size_ok(const char *dir, const char *name)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s/%s", dir, name);
+	FILE *f = fopen(path, "rb");
+	if (!f)
+		return 0;
+	fseek(f, 0, SEEK_END);
+	long size = ftell(f);
+	fclose(f);
+	return size > 0;
+}
+
+/* The folder the tool writes, from the library: the PLY files, the report
+ * naming what was written, the stages and pictures on request. */
+static void test_result_write(void **state)
+{
+	(void)state;
+	dp_context *ctx = tk_cl_context();
+	dp_context_set_progress(ctx, NULL, NULL);
+	dp_cloud scan = {0};
+	scan_torus(&scan);
+	dp_params params;
+	dp_params_default(&params);
+	params.wlop.samples = 600;
+	dp_error err = {0};
+	dp_result res = {0};
+	assert_int_equal(dp_consolidate(ctx, &scan, &params, &res, &err), DP_OK);
+	assert_int_equal(res.params.wlop.samples, 600);
+	assert_string_equal(res.device, dp_context_device_name(ctx));
+
+	const char *dir = tk_temp_dir();
+	assert_int_equal(dp_result_write(&res, dir, NULL, &err), DP_OK);
+	const char *files[] = {"surface.ply", "skeleton.ply", "dpoints.ply", "report.json"};
+	for (int k = 0; k < 4; k++)
+		assert_true(file_size_ok(dir, files[k]));
+	assert_false(file_size_ok(dir, "wlop.ply"));
+	dp_cloud surface = {0};
+	char path[4096];
+	snprintf(path, sizeof path, "%s/surface.ply", dir);
+	assert_int_equal(dp_cloud_read(path, &surface, DP_READ_POINTS, &err), DP_OK);
+	assert_int_equal(surface.n, res.surface.n);
+	assert_float_equal(surface.x[7], res.surface.x[7], 0.0f);
+	dp_cloud_free(&surface);
+	uint32_t *edges = NULL;
+	size_t nedges = 0;
+	snprintf(path, sizeof path, "%s/dpoints.ply", dir);
+	assert_int_equal(dp_ply_read_edges(path, &edges, &nedges, &err), DP_OK);
+	assert_int_equal(nedges, res.surface.n);
+	assert_int_equal(edges[1], res.surface.n);
+	free(edges);
+
+	dp_write_options wo;
+	dp_write_options_default(&wo);
+	wo.flags = DP_WRITE_STAGES | DP_WRITE_RENDER | DP_WRITE_ASCII;
+	wo.input = &scan;
+	wo.input_name = "torus scan";
+	assert_int_equal(dp_result_write(&res, dir, &wo, &err), DP_OK);
+	const char *more[] = {"wlop.ply", "anchors.ply", "input.png", "skeleton.png", "surface.png", "dpoints.png"};
+	for (int k = 0; k < 6; k++)
+		assert_true(file_size_ok(dir, more[k]));
+	snprintf(path, sizeof path, "%s/report.json", dir);
+	FILE *f = fopen(path, "r");
+	assert_non_null(f);
+	char text[65536];
+	size_t len = fread(text, 1, sizeof text - 1, f);
+	text[len] = '\0';
+	fclose(f);
+	assert_non_null(strstr(text, "\"input\": \"torus scan\""));
+	assert_non_null(strstr(text, "\"anchors.ply\""));
+	assert_non_null(strstr(text, "\"dpoints.png\""));
+	assert_non_null(strstr(text, "\"samples\": 600"));
+
+	/* errors: nothing to write, a folder that is not there, a bad axis */
+	dp_result empty = {0};
+	assert_int_equal(dp_result_write(&empty, dir, NULL, &err), DP_ERR_ARG);
+	assert_int_equal(dp_result_write(&res, "/nonexistent/folder", NULL, &err), DP_ERR_IO);
+	assert_non_null(strstr(err.message, "/nonexistent/folder"));
+	wo.up_axis = 3;
+	assert_int_equal(dp_result_write(&res, dir, &wo, &err), DP_ERR_ARG);
+	dp_result_free(&res);
+	dp_cloud_free(&scan);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_version),
 		cmocka_unit_test(test_devices),
 		cmocka_unit_test(test_cancel),
+		cmocka_unit_test(test_result_write),
 	};
 	return tk_exit_status(cmocka_run_group_tests(tests, NULL, tk_teardown_contexts));
 }

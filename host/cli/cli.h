@@ -4,6 +4,7 @@
 #define DP_CLI_CLI_H
 
 #include "dpoints_tools.h"
+#include "io/json.h"
 
 #include <stdio.h>
 
@@ -48,23 +49,19 @@ int cli_parse(const char *cmd, const char *synopsis, int argc, char **argv, int 
 	      size_t nopts, const char **positional, size_t max_pos, size_t *npos, int *help);
 void cli_usage(FILE *out, const char *cmd, const char *synopsis, const cli_opt *opts, size_t nopts);
 
-/* A tiny JSON writer for reports: keys in order, numbers with full precision. */
-typedef struct json_writer {
-	FILE *f;
-	int depth;
-	int first[16];
-} json_writer;
-
-void json_begin(json_writer *w, FILE *f);
-void json_object(json_writer *w, const char *key);  /* key NULL inside arrays / at top */
-void json_end_object(json_writer *w);
-void json_array(json_writer *w, const char *key);
-void json_end_array(json_writer *w);
-void json_num(json_writer *w, const char *key, double v);
-void json_int(json_writer *w, const char *key, long long v);
-void json_str(json_writer *w, const char *key, const char *v);
-void json_bool(json_writer *w, const char *key, int v);
-void json_finish(json_writer *w);
+/* The library's report writer (io/json.h), under the short names the
+ * commands have always used. */
+#define json_writer dp_json_writer
+#define json_begin dp_json_begin
+#define json_object dp_json_object
+#define json_end_object dp_json_end_object
+#define json_array dp_json_array
+#define json_end_array dp_json_end_array
+#define json_num dp_json_num
+#define json_int dp_json_int
+#define json_str dp_json_str
+#define json_bool dp_json_bool
+#define json_finish dp_json_finish
 
 int dp_cmd_devices(int argc, char **argv);
 int dp_cmd_wlop(int argc, char **argv);

@@ -33,41 +33,6 @@ static void wlop_step(const wlop_run *run, double start, const char *step, size_
 		fprintf(stderr, "  [%7.1f s] %-9s %zu points\n", dp_seconds() - start, step, points);
 }
 
-void dp_cli_json_wlop_params(json_writer *w, const dp_wlop_params *p)
-{
-	json_object(w, "wlop");
-	json_int(w, "samples", (long long)p->samples);
-	json_num(w, "ratio", p->ratio);
-	json_num(w, "h", p->h);
-	json_num(w, "h_factor", p->h_factor);
-	json_num(w, "mu", p->mu);
-	json_int(w, "max_iters", p->max_iters);
-	json_num(w, "tol", p->tol);
-	json_num(w, "stall_tol", p->stall_tol);
-	json_int(w, "window", p->window);
-	json_num(w, "min_drop", p->min_drop);
-	json_num(w, "theta_k", p->theta_k);
-	json_str(w, "weight", p->weight == DP_WLOP_GAUSSIAN ? "gaussian" : "l1");
-	json_bool(w, "sqrt_density", p->sqrt_density);
-	json_int(w, "seed", (long long)p->seed);
-	json_end_object(w);
-}
-
-void dp_cli_json_normal_params(json_writer *w, const dp_normal_params *p)
-{
-	json_object(w, "normals");
-	json_int(w, "k", p->k);
-	json_int(w, "k_graph", p->k_graph);
-	json_bool(w, "use_viewpoint", p->use_viewpoint);
-	if (p->use_viewpoint) {
-		json_array(w, "viewpoint");
-		for (int k = 0; k < 3; k++)
-			json_num(w, NULL, p->viewpoint[k]);
-		json_end_array(w);
-	}
-	json_end_object(w);
-}
-
 static void fill_report(json_writer *w, const void *arg)
 {
 	const wlop_run *run = arg;
@@ -78,8 +43,8 @@ static void fill_report(json_writer *w, const void *arg)
 	json_str(w, "backend", run->backend ? "ref" : "cl");
 	json_str(w, "device", run->device_name);
 	json_object(w, "parameters");
-	dp_cli_json_wlop_params(w, &run->wp);
-	dp_cli_json_normal_params(w, &run->np);
+	dp_json_wlop_params(w, &run->wp);
+	dp_json_normal_params(w, &run->np);
 	json_end_object(w);
 	json_object(w, "results");
 	json_int(w, "points_in", (long long)run->points_in);

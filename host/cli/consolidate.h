@@ -36,10 +36,6 @@ int dp_cli_consolidate_one(const char *cmd, dp_context *ctx, const dp_consolidat
 int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolidate_job *job, const dp_cloud *in,
 			     const char *label, const char *dir, dp_result *result, dp_consolidate_summary *summary);
 
-/* input.png, skeleton.png, surface.png and dpoints.png in `dir`; xyz/edges
- * are the deep points as dpoints.ply holds them (2n vertices, n edges). */
-dp_status dp_cli_render_result(const dp_cloud *in, const dp_result *r, const float *x, const float *y,
-			       const float *z, const uint32_t *edges, int up_axis, const char *dir, dp_error *err);
 
 void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_consolidate_summary *rows,
 				size_t n);

@@ -28,8 +28,4 @@ int cli_check_folder_not_input(const char *cmd, const char *dir, const char *con
 int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg),
 		   const void *arg);
 
-/* Parameter blocks of reports, shared by wlop and consolidate. */
-void dp_cli_json_wlop_params(json_writer *w, const dp_wlop_params *p);
-void dp_cli_json_normal_params(json_writer *w, const dp_normal_params *p);
-
 #endif

@@ -76,7 +76,9 @@ DP_API const char *dp_status_string(dp_status status);
 /*
  * A point set, structure-of-arrays. x, y, z hold n floats each. nx, ny, nz are
  * either all NULL or all hold n floats. faces, when not NULL, holds 3*nfaces
- * vertex indices of triangles (only filled when a mesh is asked for).
+ * vertex indices of triangles (only filled when a mesh is asked for). rgb,
+ * when not NULL, holds 3*n colour bytes (red, green, blue of point i at 3i),
+ * as read from PLY red/green/blue, PCD rgb/rgba and XYZ/PTS colour columns.
  * All arrays are malloc'ed and owned by the struct; release with dp_cloud_free.
  */
 typedef struct dp_cloud {
@@ -85,6 +87,7 @@ typedef struct dp_cloud {
 	float *nx, *ny, *nz;
 	size_t nfaces;
 	uint32_t *faces;
+	unsigned char *rgb; /* last, so code built against the struct without it still lines up */
 } dp_cloud;
 
 /* Allocates arrays for n points (and normals when with_normals); the contents
@@ -678,6 +681,9 @@ typedef struct dp_result {
 	dp_skeleton_stats skeleton_stats;
 	dp_surface_stats surface_stats;
 	double seconds_normals, seconds_total;
+	dp_params params;   /* the parameters it ran with (report.json lists them) */
+	dp_backend_kind backend;
+	char device[DP_DEVICE_NAME_MAX]; /* dp_context_device_name of the context it ran on */
 } dp_result;
 
 /*
@@ -697,6 +703,43 @@ DP_API dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp
 			 dp_error *err);
 /* Frees every array of the result and zeroes it; NULL is fine. */
 DP_API void dp_result_free(dp_result *result);
+
+/* What dp_result_write writes besides the three PLY files and report.json;
+ * or'ed into dp_write_options.flags. */
+typedef enum dp_write_flags {
+	DP_WRITE_ASCII = 1 << 0,  /* ascii PLY instead of binary little endian */
+	DP_WRITE_STAGES = 1 << 1, /* wlop.ply and anchors.ply: the coarse level's samples and anchors */
+	DP_WRITE_RENDER = 1 << 2  /* input.png (needs options->input), skeleton.png, surface.png, dpoints.png */
+} dp_write_flags;
+
+typedef struct dp_write_options {
+	unsigned flags;          /* dp_write_flags; default 0 */
+	int up_axis;             /* vertical axis of the pictures: 0 x, 1 y, 2 z; default 1 */
+	const dp_cloud *input;   /* the cloud that was consolidated, for input.png; may be NULL */
+	const char *input_name;  /* "input" in report.json (a file name); NULL: "" */
+	const char *output_name; /* "output" in report.json; NULL: `dir`. A caller writing into a staging
+	                            folder it renames afterwards names the final folder here */
+} dp_write_options;
+
+/* flags 0, up_axis 1, no input, no names. */
+DP_API void dp_write_options_default(dp_write_options *options);
+
+/*
+ * Writes a result into the folder `dir`, which must exist, as `dpoints
+ * consolidate` does: surface.ply (x y z nx ny nz length eta), skeleton.ply (x y
+ * z, the inner ends in the same order), dpoints.ply (surface ends as vertices
+ * 0..n-1, inner ends n..2n-1, one `edge` per deep point), report.json (every
+ * parameter, per-stage iterations, counts, seconds and the files written), and
+ * what options->flags asks for. Every file is written to a temporary name and
+ * renamed, so none is ever partial; a failure may leave the files written
+ * before it. Files of the same names are replaced; nothing else in `dir` is
+ * touched. `options` NULL means the defaults. Only reads `result` and the
+ * options, which stay the caller's. Errors: DP_ERR_ARG (NULL result or dir, a
+ * result without deep points, up_axis out of range), DP_ERR_IO naming the file
+ * that could not be written, DP_ERR_NOMEM. Reentrant.
+ */
+DP_API dp_status dp_result_write(const dp_result *result, const char *dir, const dp_write_options *options,
+				 dp_error *err);
 
 #ifdef __cplusplus
 }

@@ -152,6 +152,9 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		return DP_ERR_ARG;
 	double t_start = dp_seconds();
 	res->points_in = input->n;
+	res->params = *params;
+	res->backend = dp_context_backend(ctx);
+	snprintf(res->device, sizeof res->device, "%s", dp_context_device_name(ctx));
 	size_t target = 0, counts[DP_MAX_LEVELS];
 	dp_status st = target_count(input, params, &target, err);
 	if (st != DP_OK) {
