@@ -9,7 +9,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-static const char *names[] = {"sphere", "cylinder", "slab", "torus", "knot", "chair"};
+static const char *names[] = {"sphere", "cylinder", "slab", "torus", "knot", "chair", "rods"};
 #define NNAMES (sizeof names / sizeof names[0])
 
 static dp_shape shape_named(const char *name)
@@ -34,7 +34,8 @@ static double curvature_radius(const dp_shape *s)
 	switch (s->kind) {
 	case DP_SHAPE_SPHERE:
 	case DP_SHAPE_CYLINDER:
-	case DP_SHAPE_CHAIR: return s->radius;
+	case DP_SHAPE_CHAIR:
+	case DP_SHAPE_RODS: return s->radius;
 	case DP_SHAPE_TORUS:
 	case DP_SHAPE_KNOT: return s->tube;
 	case DP_SHAPE_SLAB: return 0;

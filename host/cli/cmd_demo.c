@@ -67,7 +67,7 @@ int dp_cmd_demo(int argc, char **argv)
 	job.up_axis = 2;
 	cli_opt opts[] = {
 		{"--output", CLI_STRING, &outdir, "output folder", NULL, NULL},
-		{"--shape", CLI_STRING, &shape_name, "built-in shape: chair, sphere, cylinder, slab, torus, knot", NULL,
+		{"--shape", CLI_STRING, &shape_name, "built-in shape: chair, sphere, cylinder, slab, torus, knot, rods", NULL,
 		 NULL},
 		{"--views", CLI_INT, &sp.views, "scanner viewpoints", NULL, NULL},
 		{"--res", CLI_INT, &sp.res, "rays per view: res x res", NULL, NULL},

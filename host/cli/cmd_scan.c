@@ -13,7 +13,7 @@ int dp_cmd_scan(int argc, char **argv)
 	int ascii = 0, no_normals = 0, layout = (int)sp.layout, shape_res = 0;
 	cli_opt opts[] = {
 		{"--output", CLI_STRING, &output, "output PLY of the scanned points", NULL, NULL},
-		{"--shape", CLI_STRING, &shape_name, "built-in shape: sphere, cylinder, slab, torus, knot, chair",
+		{"--shape", CLI_STRING, &shape_name, "built-in shape: sphere, cylinder, slab, torus, knot, chair, rods",
 		 NULL, NULL},
 		{"--shape-res", CLI_INT, &shape_res, "triangulation resolution of the built-in shape (0 = its default)",
 		 NULL, NULL},

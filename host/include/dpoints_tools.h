@@ -105,7 +105,9 @@ typedef enum dp_shape_kind {
 	DP_SHAPE_SLAB,         /* thin box W x W (x, y) x T (z), centred */
 	DP_SHAPE_TORUS,        /* core radius R in the xy-plane, tube radius rho */
 	DP_SHAPE_KNOT,         /* tube of radius rho around a trefoil curve */
-	DP_SHAPE_CHAIR         /* seat slab, 4 cylindrical legs, back slab; floor z = 0 */
+	DP_SHAPE_CHAIR,        /* seat slab, 4 cylindrical legs, back slab; floor z = 0 */
+	DP_SHAPE_RODS          /* thin parts: 4 capped rods of radius R and length L along z, their axes at
+	                          (±W/2, ±W/2), centred at z = 0 */
 } dp_shape_kind;
 
 /*

@@ -20,7 +20,8 @@ static int cmp_double(const void *a, const void *b)
 static double half_thickness(const dp_shape *s)
 {
 	switch (s->kind) {
-	case DP_SHAPE_CYLINDER: return s->radius;
+	case DP_SHAPE_CYLINDER:
+	case DP_SHAPE_RODS: return s->radius;
 	case DP_SHAPE_SLAB: return 0.5 * s->thickness;
 	case DP_SHAPE_TORUS: return s->tube;
 	default: return NAN;

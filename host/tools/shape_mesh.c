@@ -343,6 +343,13 @@ static void generate(builder *b, const dp_shape *s)
 	case DP_SHAPE_TORUS: make_torus(b, s->radius, s->tube, res); break;
 	case DP_SHAPE_KNOT: make_knot(b, s->radius, s->tube, res); break;
 	case DP_SHAPE_CHAIR: make_chair(b, s); break;
+	case DP_SHAPE_RODS: {
+		double axes[4][3];
+		dp_rods_layout(s, axes);
+		for (int i = 0; i < 4; i++)
+			make_cylinder(b, axes[i], s->radius, s->length, res);
+		break;
+	}
 	}
 }
 

@@ -29,6 +29,9 @@ static const struct {
 	{"torus", {DP_SHAPE_TORUS, 1.0, 0, 0, 0, 0.3, 0, 48}},
 	{"knot", {DP_SHAPE_KNOT, 0.35, 0, 0, 0, 0.12, 0, 32}},
 	{"chair", {DP_SHAPE_CHAIR, 0.05, 0.9, 1.0, 0.08, 0, 1.0, 32}},
+	/* rods of radius 2-3 r at the default 4000 deep points: parts thinner
+	 * than the σp = 5 r neighbourhoods */
+	{"rods", {DP_SHAPE_RODS, 0.02, 1.0, 0.4, 0, 0, 0, 32}},
 };
 #define NSHAPES (sizeof defaults / sizeof defaults[0])
 
@@ -40,7 +43,7 @@ dp_status dp_shape_default(const char *name, dp_shape *shape, dp_error *err)
 			return DP_OK;
 		}
 	return dp_fail(err, DP_ERR_ARG,
-		       "shape: unknown shape '%s' (valid: sphere, cylinder, slab, torus, knot, chair)",
+		       "shape: unknown shape '%s' (valid: sphere, cylinder, slab, torus, knot, chair, rods)",
 		       name ? name : "(null)");
 }
 
@@ -71,6 +74,7 @@ dp_status dp_shape_check(const dp_shape *s, dp_error *err)
 		     positive(s->height) && s->width >= 2 * (DP_CHAIR_LEG_INSET + 1) * s->radius &&
 		     s->thickness < s->width;
 		break;
+	case DP_SHAPE_RODS: ok = positive(s->radius) && positive(s->length) && s->width > 2 * s->radius; break;
 	default: return dp_fail(err, DP_ERR_ARG, "shape: unknown kind %d", (int)s->kind);
 	}
 	if (!ok)
@@ -125,6 +129,15 @@ void dp_chair_layout(const dp_shape *s, dp_chair_parts *c)
 		c->leg[i][0] = (i & 1) ? off : -off;
 		c->leg[i][1] = (i & 2) ? off : -off;
 		c->leg[i][2] = 0.5 * s->length;
+	}
+}
+
+void dp_rods_layout(const dp_shape *s, double axes[4][3])
+{
+	for (int i = 0; i < 4; i++) {
+		axes[i][0] = (i & 1 ? 0.5 : -0.5) * s->width;
+		axes[i][1] = (i & 2 ? 0.5 : -0.5) * s->width;
+		axes[i][2] = 0.0;
 	}
 }
 
@@ -234,6 +247,7 @@ double dp_shape_volume(const dp_shape *s)
 	case DP_SHAPE_CHAIR:
 		return s->width * s->width * s->thickness + s->width * s->thickness * s->height +
 		       4.0 * M_PI * s->radius * s->radius * s->length;
+	case DP_SHAPE_RODS: return 4.0 * M_PI * s->radius * s->radius * s->length;
 	}
 	return NAN;
 }
@@ -259,6 +273,13 @@ double dp_shape_surface_distance(const dp_shape *s, const double p[3])
 		double d = fmin(fabs(box_sdf(p, c.seat_lo, c.seat_hi)), fabs(box_sdf(p, c.back_lo, c.back_hi)));
 		for (int i = 0; i < 4; i++)
 			d = fmin(d, fabs(cylinder_sdf(p, c.leg[i], s->radius, s->length)));
+		return d;
+	}
+	case DP_SHAPE_RODS: {
+		double axes[4][3], d = INFINITY;
+		dp_rods_layout(s, axes);
+		for (int i = 0; i < 4; i++)
+			d = fmin(d, fabs(cylinder_sdf(p, axes[i], s->radius, s->length)));
 		return d;
 	}
 	}
@@ -288,6 +309,13 @@ double dp_shape_skeleton_distance(const dp_shape *s, const double p[3])
 		double d = fmin(rect_distance(p, slo, shi), rect_distance(p, blo, bhi));
 		for (int i = 0; i < 4; i++)
 			d = fmin(d, axis_distance(p, c.leg[i], s->length));
+		return d;
+	}
+	case DP_SHAPE_RODS: {
+		double axes[4][3], d = INFINITY;
+		dp_rods_layout(s, axes);
+		for (int i = 0; i < 4; i++)
+			d = fmin(d, axis_distance(p, axes[i], s->length));
 		return d;
 	}
 	}

@@ -29,4 +29,7 @@ typedef struct dp_chair_parts {
 
 void dp_chair_layout(const dp_shape *s, dp_chair_parts *c);
 
+/* The rods' axis centres (each the cylinder's mid-height). */
+void dp_rods_layout(const dp_shape *s, double axes[4][3]);
+
 #endif
