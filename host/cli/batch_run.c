@@ -40,7 +40,6 @@ static void *work(void *arg)
 			return NULL;
 		if (!b->quiet && b->n > 1)
 			fprintf(stderr, "%s[%zu/%zu] %s\n", w->progress.prefix, k, b->todo, b->inputs[i]);
-		w->progress.stage = NULL;
 		dp_consolidate_summary *s = &b->summary[i];
 		snprintf(s->device, sizeof s->device, "%s", w->label);
 		int r = dp_cli_consolidate_one(b->cmd, w->ctx, &w->job, b->inputs[i], b->dirs[i], s);
@@ -84,8 +83,10 @@ int dp_cli_batch_run(dp_batch *b, const dp_consolidate_job *job, int backend, co
 		if (nw > 1)
 			snprintf(ws[d].progress.prefix, sizeof ws[d].progress.prefix, "worker %zu (device %s): ", d + 1,
 				 spec);
-		if (!b->quiet)
+		if (!b->quiet) {
 			dp_context_set_progress(ws[d].ctx, dp_cli_progress, &ws[d].progress);
+			ws[d].job.progress = &ws[d].progress;
+		}
 		if (!b->quiet && nw > 1)
 			fprintf(stderr, "%s%s\n", ws[d].progress.prefix, ws[d].job.device_name);
 	}

@@ -11,27 +11,6 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
-int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
-{
-	static dp_cli_progress_state process;
-	dp_cli_progress_state *st = user ? user : &process;
-	const char *pre = st->prefix;
-	/* one line a second, and the first iteration of every stage */
-	if (stage == st->stage && elapsed - st->last_print < 1.0)
-		return 0;
-	st->stage = stage;
-	st->last_print = elapsed;
-	if (strcmp(stage, "sink") == 0)
-		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %3d, %.0f settled\n", pre, elapsed, stage, iteration, value);
-	else if (strcmp(stage, "wlop") == 0)
-		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %3d, mean move %.4f h\n", pre, elapsed, stage, iteration,
-			value);
-	else
-		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %3d, mean move %.4f r\n", pre, elapsed, stage, iteration,
-			value);
-	return 0;
-}
-
 int dp_cli_mkdir(const char *cmd, const char *dir)
 {
 	char path[4096];

@@ -19,7 +19,9 @@ static const char *stop_reason(const dp_json *report, int k)
 	if (k == 2)
 		return dp_json_number(report, "results.sink.unsettled", 0) > 0 ? "cap" : "settled";
 	snprintf(path, sizeof path, "results.%s.converged", stages[k]);
-	return dp_json_number(report, path, 0) ? "converged" : "cap";
+	if (!dp_json_number(report, path, 0))
+		return "cap";
+	return k == 0 && dp_json_number(report, "results.wlop.stalled", 0) ? "stalled" : "converged";
 }
 
 static double stage_seconds(const dp_json *report, int k)

@@ -14,6 +14,7 @@ typedef struct dp_consolidate_job {
 	int staged;
 	const char *backend_name, *device_name;
 	int json_stdout; /* stdout is one JSON document (--json): no per-input line there */
+	struct dp_cli_progress_state *progress; /* the context's progress printer, NULL when quiet */
 } dp_consolidate_job;
 
 /* One row of the batch summary. */
@@ -39,15 +40,22 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 
 void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_consolidate_summary *rows,
 				size_t n);
-/* Progress lines on stderr, at most one a second per stage. `user` is a
- * dp_cli_progress_state (one per context, as workers run side by side) or
- * NULL for one shared by the whole process. */
+/* Progress lines on stderr, at most one a second per stage, "iteration
+ * k/cap" where the caps are known, and one line when a stage ends saying why.
+ * `user` is a dp_cli_progress_state (one per context, as workers run side by
+ * side) or NULL for one shared by the whole process. */
 typedef struct dp_cli_progress_state {
 	const char *stage;
 	double last_print;
-	char prefix[48]; /* before every line: which worker, in a batch over devices */
+	char prefix[48];         /* before every line: which worker, in a batch over devices */
+	const dp_params *params; /* the caps; NULL: unknown */
+	int iteration, runs;     /* of the running stage; runs of "surface" (later ones: refined levels) */
+	double value, elapsed;
 } dp_cli_progress_state;
 int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
+/* The end line of the last stage, after the pipeline returned (`ok`: it
+ * finished; otherwise nothing is printed); readies `st` for the next input. */
+void dp_cli_progress_end(dp_cli_progress_state *st, int ok);
 /* mkdir -p; 0 or an exit code after one error line. */
 int dp_cli_mkdir(const char *cmd, const char *dir);
 

@@ -32,7 +32,14 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 	dp_params params = job->params;
 	if (job->samples_factor > 0.0)
 		params.wlop.samples = (size_t)fmax(1.0, round(job->samples_factor * (double)in->n));
-	if (dp_consolidate(ctx, in, &params, res, &err) != DP_OK) {
+	if (job->progress)
+		job->progress->params = &params;
+	dp_status cst = dp_consolidate(ctx, in, &params, res, &err);
+	if (job->progress) {
+		dp_cli_progress_end(job->progress, cst == DP_OK);
+		job->progress->params = NULL;
+	}
+	if (cst != DP_OK) {
 		dp_cli_name_input(&err, label);
 		goto fail;
 	}

@@ -1,0 +1,22 @@
+#!/usr/bin/env bash
+# Progress lines of consolidate: "iteration k/cap" for every stage and one
+# line when a stage ends with its reason (converged, all settled, the cap;
+# refined levels run a fixed count); --quiet silences them.
+source "$(dirname "$0")/support/cli_check.sh"
+
+expect_ok scan scan --shape sphere --res 32 --seed 3 -o "$tmp/s.ply" || finish
+expect_ok run consolidate "$tmp/s.ply" -o "$tmp/out" --samples 1200 --coarse-samples 500 --wlop-iters 5 || finish
+err="$tmp/run.err"
+check() {
+	if grep -qE -- "$2" "$err"; then ok "$1"; else fail "$1: no line matching '$2' in: $(cat "$err")"; fi
+}
+check "wlop iteration k/cap" 'wlop +iteration +1/5,'
+check "wlop ends at its cap" 'wlop +ended after 5/5 iterations: stopped at the iteration cap'
+check "sink iteration k/cap" 'sink +iteration +1/200,'
+check "sink ends settled" 'sink +ended after [0-9]+/200 iterations: all settled'
+check "skeleton ends converged" 'skeleton +ended after [0-9]+/100 iterations: converged'
+check "surface ends" 'surface +ended after [0-9]+/200 iterations: '
+check "a refined level" 'level 1 +ended after 15/15 iterations: fixed iteration count'
+expect_ok quiet consolidate "$tmp/s.ply" -o "$tmp/q" --samples 300 --quiet
+grep -q "iteration" "$tmp/quiet.err" && fail "--quiet printed progress: $(cat "$tmp/quiet.err")" || ok "--quiet: no progress"
+finish
