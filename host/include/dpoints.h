@@ -741,6 +741,14 @@ DP_API void dp_write_options_default(dp_write_options *options);
 DP_API dp_status dp_result_write(const dp_result *result, const char *dir, const dp_write_options *options,
 				 dp_error *err);
 
+/* The report.json that dp_result_write would write, as a NUL-terminated
+ * malloc'ed string in *json that the caller frees with free(); its "files"
+ * list is empty, as nothing was written. `options` NULL means the defaults
+ * (only the names are used). Errors: DP_ERR_ARG (NULL result or json, no deep
+ * points), DP_ERR_NOMEM; *json is NULL on error. Reentrant. */
+DP_API dp_status dp_result_report(const dp_result *result, const dp_write_options *options, char **json,
+				  dp_error *err);
+
 #ifdef __cplusplus
 }
 #endif

@@ -261,7 +261,9 @@ static dp_status write_ply(report_arg *a, const char *dir, const char *name, siz
 {
 	char path[4096];
 	snprintf(path, sizeof path, "%s/%s", dir, name);
-	dp_status st = dp_ply_write(path, n, props, nprops, edges, nedges, NULL, 0, ascii, err);
+	/* colours of the input, when the caller carried them onto the surface */
+	const unsigned char *rgb = strcmp(name, "surface.ply") == 0 ? a->res->surface.rgb : NULL;
+	dp_status st = dp_io_ply_write_rgb(path, n, props, nprops, rgb, edges, nedges, NULL, 0, ascii, err);
 	if (st == DP_OK)
 		a->files[a->nfiles++] = name;
 	return st;
@@ -291,6 +293,31 @@ static dp_status write_report(const report_arg *a, const char *dir, dp_error *er
 	fill_report(&w, a);
 	dp_json_finish(&w);
 	return dp_atomic_commit(&af, err);
+}
+
+dp_status dp_result_report(const dp_result *r, const dp_write_options *options, char **json, dp_error *err)
+{
+	if (!json)
+		return dp_fail(err, DP_ERR_ARG, "report: NULL output");
+	*json = NULL;
+	if (!r || r->surface.n == 0)
+		return dp_fail(err, DP_ERR_ARG, "report: the result holds no deep points");
+	report_arg a = {options && options->input_name ? options->input_name : "",
+			options && options->output_name ? options->output_name : "", r, {0}, 0};
+	size_t size = 0;
+	FILE *f = open_memstream(json, &size);
+	if (!f)
+		return dp_fail(err, DP_ERR_NOMEM, "report: out of memory");
+	dp_json_writer w;
+	dp_json_begin(&w, f);
+	fill_report(&w, &a);
+	dp_json_finish(&w);
+	if (fclose(f) != 0) {
+		free(*json);
+		*json = NULL;
+		return dp_fail(err, DP_ERR_NOMEM, "report: out of memory");
+	}
+	return DP_OK;
 }
 
 void dp_write_options_default(dp_write_options *o)
