@@ -567,33 +567,35 @@ static void test_colours(void **state)
 {
 	(void)state;
 	unsigned char rgb[3];
-	assert_int_equal(dp_parse_colour("#ff8800", rgb), 0);
+	assert_int_equal(dp_parse_colour("#ff8800", rgb, NULL), DP_OK);
 	assert_true(rgb[0] == 255 && rgb[1] == 0x88 && rgb[2] == 0);
-	assert_int_equal(dp_parse_colour("#F80", rgb), 0);
+	assert_int_equal(dp_parse_colour("#F80", rgb, NULL), DP_OK);
 	assert_true(rgb[0] == 255 && rgb[1] == 0x88 && rgb[2] == 0);
-	assert_int_equal(dp_parse_colour("#0a0B0c", rgb), 0);
+	assert_int_equal(dp_parse_colour("#0a0B0c", rgb, NULL), DP_OK);
 	assert_true(rgb[0] == 10 && rgb[1] == 11 && rgb[2] == 12);
 
 	unsigned char named[3];
-	assert_int_equal(dp_parse_colour("red", named), 0);
+	assert_int_equal(dp_parse_colour("red", named, NULL), DP_OK);
 	assert_true(dominant(named, 0));
-	assert_int_equal(dp_parse_colour("RED", rgb), 0);
+	assert_int_equal(dp_parse_colour("RED", rgb, NULL), DP_OK);
 	assert_memory_equal(rgb, named, 3);
-	assert_int_equal(dp_parse_colour("Green", rgb), 0);
+	assert_int_equal(dp_parse_colour("Green", rgb, NULL), DP_OK);
 	assert_true(dominant(rgb, 1));
-	assert_int_equal(dp_parse_colour("blue", rgb), 0);
+	assert_int_equal(dp_parse_colour("blue", rgb, NULL), DP_OK);
 	assert_true(rgb[2] > rgb[0] && rgb[2] > rgb[1]);
-	assert_int_equal(dp_parse_colour("grey", named), 0);
-	assert_int_equal(dp_parse_colour("gray", rgb), 0);
+	assert_int_equal(dp_parse_colour("grey", named, NULL), DP_OK);
+	assert_int_equal(dp_parse_colour("gray", rgb, NULL), DP_OK);
 	assert_memory_equal(rgb, named, 3);
 
 	const char *bad[] = { "", "#", "#ff88", "#ff88000", "#gg0000", "ff8800", "reddish", "re", "#12345z" };
 	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
 		unsigned char keep[3] = { 1, 2, 3 };
-		assert_int_equal(dp_parse_colour(bad[i], keep), -1);
+		dp_error err = {0};
+		assert_int_equal(dp_parse_colour(bad[i], keep, &err), DP_ERR_ARG);
+		assert_non_null(strstr(err.message, bad[i]));
 		assert_true(keep[0] == 1 && keep[1] == 2 && keep[2] == 3);
 	}
-	assert_int_equal(dp_parse_colour(NULL, rgb), -1);
+	assert_int_equal(dp_parse_colour(NULL, rgb, NULL), DP_ERR_ARG);
 
 	/* Default colours: distinct, and none vanishes on the white background. */
 	unsigned char a[3], b[3];

@@ -53,7 +53,8 @@ int dp_cmd_render(int argc, char **argv)
 		dp_render_default_colour(n, layers[n].rgb);
 		/* "file:colour" only when the suffix is a colour: paths may hold ':' */
 		char *colon = strrchr(path, ':');
-		if (colon && dp_parse_colour(colon + 1, layers[n].rgb) == 0)
+		dp_error not_colour = {0};
+		if (colon && dp_parse_colour(colon + 1, layers[n].rgb, &not_colour) == DP_OK)
 			*colon = '\0';
 		if (dp_cloud_read(path, &clouds[n], DP_READ_POINTS, &err) != DP_OK)
 			goto fail;

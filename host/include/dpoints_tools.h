@@ -79,9 +79,10 @@ DP_API dp_status dp_render_png(const char *path, const dp_render_layer *layers, 
 /*
  * Parses a colour: a name (red, green, blue, orange, purple, yellow, cyan,
  * magenta, pink, brown, grey/gray, black, white; any case) or #rgb / #rrggbb
- * hex. Returns 0 and fills rgb, or -1 leaving rgb untouched.
+ * hex. DP_OK and fills rgb, or DP_ERR_ARG naming the text (NULL arguments,
+ * an unknown name, malformed hex) leaving rgb untouched.
  */
-DP_API int dp_parse_colour(const char *text, unsigned char rgb[3]);
+DP_API dp_status dp_parse_colour(const char *text, unsigned char rgb[3], dp_error *err);
 
 /* A colour for layer `index`: neighbouring indices get clearly different
  * hues, all readable on the default white background; cycles after 8. */

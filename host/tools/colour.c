@@ -1,5 +1,6 @@
 /* Colours for renders: names and hex accepted on the command line, and a
  * default palette so every layer is told apart without choosing. */
+#include "core/common.h"
 #include "dpoints_tools.h"
 
 #include <ctype.h>
@@ -73,10 +74,9 @@ static int parse_hex(const char *hex, size_t digits, unsigned char rgb[3])
 	return 0;
 }
 
-int dp_parse_colour(const char *text, unsigned char rgb[3])
+/* 0 and rgb filled, or -1 */
+static int parse(const char *text, unsigned char rgb[3])
 {
-	if (!text || !rgb)
-		return -1;
 	if (text[0] == '#') {
 		size_t len = 0;
 		while (text[1 + len])
@@ -93,6 +93,15 @@ int dp_parse_colour(const char *text, unsigned char rgb[3])
 		}
 	}
 	return -1;
+}
+
+dp_status dp_parse_colour(const char *text, unsigned char rgb[3], dp_error *err)
+{
+	if (!text || !rgb)
+		return dp_fail(err, DP_ERR_ARG, "colour: NULL text or rgb");
+	if (parse(text, rgb) != 0)
+		return dp_fail(err, DP_ERR_ARG, "colour: '%s' is neither a colour name nor #rgb / #rrggbb", text);
+	return DP_OK;
 }
 
 void dp_render_default_colour(size_t index, unsigned char rgb[3])
