@@ -320,8 +320,11 @@ static void test_malformed(void **state)
 					"property float z\nproperty list char int l\nend_header\n1 2 3 -2 0 0\n",
 			 P, F, "negative");
 
-	expect_text_fail("four.xyz", "1 2 3 4\n", P, F, "3 or 6");
-	expect_text_fail("seven.xyz", "1 2 3 4 5 6 7\n", P, F, "3 or 6");
+	expect_text_fail("two.xyz", "1 2\n", P, F, "at least 3");
+	expect_text_fail("five.xyz", "1 2 3 4 5\n", P, F, "--columns");
+	expect_text_fail("eight.xyz", "1 2 3 4 5 6 7 8\n", P, F, "--columns");
+	/* neither unit normals nor colours: the columns must be named */
+	expect_text_fail("unsure.xyz", "1 2 3 -4 5 6\n1 2 3 7 8 9\n", P, F, "--columns");
 	expect_text_fail("mixed.xyz", "1 2 3\n1 2 3 0 0 1\n", P, F, "line 2");
 	expect_text_fail("fewer.xyz", "1 2 3 0 0 1\n1 2 3\n", P, F, "line 2");
 	expect_text_fail("word.xyz", "1 2 3\n\n1 2 x3\n", P, F, "line 3");

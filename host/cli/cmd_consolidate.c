@@ -2,6 +2,7 @@
  * sharing one OpenCL context and built program. */
 #include "cli/batch_run.h"
 #include "cli/consolidate.h"
+#include "cli/input.h"
 #include "core/common.h"
 
 #include <errno.h>
@@ -196,6 +197,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--up", CLI_CHOICE, &job.up_axis, "vertical axis of the renders", "x|y|z", NULL},
 		{"--ascii", CLI_FLAG, &job.ascii, "write ascii PLY", NULL, NULL},
 		{"--quiet", CLI_FLAG, &quiet, "no progress on stderr", NULL, NULL},
+		CLI_INPUT_OPTS(job.format, job.columns),
 		{"--inputs", CLI_STRING, &list_file,
 		 "file of input paths, one a line (# comments; - reads stdin), after those on the command line; "
 		 "always one sub-folder per input",

@@ -1,5 +1,7 @@
 /* dpoints wlop: raw cloud -> WLOP samples with oriented normals (stage 1). */
 #include "cli/consolidate.h"
+#include "cli/input.h"
+#include "knn/colour.h"
 #include "core/common.h"
 
 #include <string.h>
@@ -67,6 +69,17 @@ static void fill_report(json_writer *w, const void *arg)
 	json_end_object(w);
 }
 
+typedef struct write_arg {
+	const dp_cloud *cloud;
+	int ascii;
+} write_arg;
+
+static dp_status write_cloud(const char *path, const void *varg, dp_error *err)
+{
+	const write_arg *a = varg;
+	return dp_cloud_write_ply(path, a->cloud, a->ascii, err);
+}
+
 int dp_cmd_wlop(int argc, char **argv)
 {
 	const char *cmd = "wlop";
@@ -74,10 +87,12 @@ int dp_cmd_wlop(int argc, char **argv)
 	memset(&run, 0, sizeof run);
 	dp_wlop_params_default(&run.wp);
 	dp_normal_params_default(&run.np);
-	const char *device = NULL, *report = NULL;
+	const char *device = NULL, *report = NULL, *format = NULL, *columns = NULL;
 	int ascii = 0, weight = (int)run.wp.weight;
 	cli_opt opts[] = {
-		{"--output", CLI_STRING, &run.output, "output PLY (x y z nx ny nz)", NULL, NULL},
+		{"--output", CLI_STRING, &run.output,
+		 "output PLY (x y z nx ny nz, and red green blue when the input has colours); - for standard output",
+		 NULL, NULL},
 		{"--samples", CLI_SIZE, &run.wp.samples, "number of output points m", NULL, NULL},
 		{"--ratio", CLI_DOUBLE, &run.wp.ratio, "m = ratio * input points, when --samples is not given", NULL,
 		 NULL},
@@ -109,6 +124,7 @@ int dp_cmd_wlop(int argc, char **argv)
 		{"--report", CLI_STRING, &report, "also write the summary and every parameter as JSON", NULL, NULL},
 		{"--ascii", CLI_FLAG, &ascii, "write ascii PLY instead of binary", NULL, NULL},
 		{"--quiet", CLI_FLAG, &run.quiet, "no progress on stderr", NULL, NULL},
+		CLI_INPUT_OPTS(format, columns),
 	};
 	const char *pos[1];
 	size_t npos;
@@ -123,9 +139,11 @@ int dp_cmd_wlop(int argc, char **argv)
 	}
 	run.wp.weight = (dp_wlop_weight)weight;
 	run.input = pos[0];
-	if ((rc = cli_check_output(cmd, run.output)) || (report && (rc = cli_check_output(cmd, report))))
+	int to_stdout = strcmp(run.output, "-") == 0;
+	if ((!to_stdout && (rc = cli_check_output(cmd, run.output))) ||
+	    (report && (rc = cli_check_output(cmd, report))))
 		return rc;
-	if ((rc = cli_check_not_input(cmd, run.output, pos, 1)) ||
+	if ((!to_stdout && (rc = cli_check_not_input(cmd, run.output, pos, 1))) ||
 	    (report && (rc = cli_check_not_input(cmd, report, pos, 1))))
 		return rc;
 
@@ -133,7 +151,7 @@ int dp_cmd_wlop(int argc, char **argv)
 	dp_cloud in = {0}, out = {0};
 	dp_context *ctx = NULL;
 	double start = dp_seconds(), t0 = start;
-	if (dp_cloud_read(run.input, &in, DP_READ_POINTS, &err) != DP_OK) {
+	if (dp_cli_read_input(run.input, format, columns, &in, &err) != DP_OK) {
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}
@@ -159,14 +177,20 @@ int dp_cmd_wlop(int argc, char **argv)
 		goto done;
 	}
 	run.seconds_normals = dp_seconds() - t0;
-	wlop_step(&run, start, "write", out.n);
-	t0 = dp_seconds();
-	if (dp_cloud_write_ply(run.output, &out, ascii, &err) != DP_OK) {
+	if (dp_transfer_colours(&out, &in, &err) != DP_OK) {
+		dp_cli_name_input(&err, run.input);
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}
+	wlop_step(&run, start, "write", out.n);
+	t0 = dp_seconds();
+	write_arg wa = {&out, ascii};
+	if (to_stdout ? (rc = dp_cli_write_stdout(cmd, write_cloud, &wa)) != 0
+		      : (rc = dp_cloud_write_ply(run.output, &out, ascii, &err) != DP_OK ? dp_cli_fail(cmd, &err) : 0))
+		goto done;
 	run.seconds_write = dp_seconds() - t0;
-	printf("wlop: %zu points in, %zu out, h = %.6g, %d iterations, %.3f s density + %.3f s iterations "
+	/* with -o - stdout is the PLY file */
+	fprintf(to_stdout ? stderr : stdout, "wlop: %zu points in, %zu out, h = %.6g, %d iterations, %.3f s density + %.3f s iterations "
 	       "(%.4f s/iteration), normals %.3f s, %s on %s -> %s\n",
 	       run.points_in, out.n, run.ws.h, run.ws.iterations, run.ws.seconds_density, run.ws.seconds_iterations,
 	       run.ws.iterations ? run.ws.seconds_iterations / run.ws.iterations : 0.0, run.seconds_normals,

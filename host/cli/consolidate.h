@@ -15,6 +15,7 @@ typedef struct dp_consolidate_job {
 	const char *backend_name, *device_name;
 	int json_stdout; /* stdout is one JSON document (--json): no per-input line there */
 	struct dp_cli_progress_state *progress; /* the context's progress printer, NULL when quiet */
+	const char *format, *columns;           /* --format, --columns: how inputs are read (NULL: by name, detected) */
 } dp_consolidate_job;
 
 /* One row of the batch summary. */

@@ -1,5 +1,6 @@
 /* One consolidate run: the pipeline, then its folder through dp_result_write. */
 #include "cli/consolidate.h"
+#include "cli/input.h"
 #include "core/common.h"
 
 #include <math.h>
@@ -39,6 +40,8 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 		dp_cli_progress_end(job->progress, cst == DP_OK);
 		job->progress->params = NULL;
 	}
+	if (cst == DP_OK && in->rgb)
+		cst = dp_cli_carry_colours(in, res, &err);
 	if (cst != DP_OK) {
 		dp_cli_name_input(&err, label);
 		goto fail;
@@ -107,7 +110,7 @@ int dp_cli_consolidate_one(const char *cmd, dp_context *ctx, const dp_consolidat
 	dp_error err = {0};
 	dp_cloud in = {0};
 	dp_result res = {0};
-	if (dp_cloud_read(input, &in, DP_READ_POINTS, &err) != DP_OK) {
+	if (dp_cli_read_input(input, job->format, job->columns, &in, &err) != DP_OK) {
 		snprintf(summary->error, sizeof summary->error, "%s", err.message);
 		return dp_cli_fail(cmd, &err);
 	}

@@ -48,6 +48,7 @@ void dp_cloud_free(dp_cloud *cloud)
 	free(cloud->ny);
 	free(cloud->nz);
 	free(cloud->faces);
+	free(cloud->rgb);
 	memset(cloud, 0, sizeof *cloud);
 }
 
@@ -73,6 +74,14 @@ dp_status dp_cloud_copy(dp_cloud *dst, const dp_cloud *src, dp_error *err)
 		}
 		memcpy(dst->faces, src->faces, 3 * src->nfaces * sizeof(uint32_t));
 		dst->nfaces = src->nfaces;
+	}
+	if (src->rgb) {
+		dst->rgb = dp_alloc_array(3 * src->n, 1);
+		if (!dst->rgb) {
+			dp_cloud_free(dst);
+			return dp_fail(err, DP_ERR_NOMEM, "out of memory copying %zu colours", src->n);
+		}
+		memcpy(dst->rgb, src->rgb, 3 * src->n);
 	}
 	return DP_OK;
 }

@@ -30,6 +30,22 @@ dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err)
 	return dp_io_builder_reserve(b, cap, err);
 }
 
+dp_status dp_io_builder_want_colours(dp_io_builder *b, dp_error *err)
+{
+	if (b->c.n > 0)
+		return dp_fail(err, DP_ERR_INTERNAL, "io builder: colours requested after points were added");
+	b->colours = 1;
+	size_t cap = b->cap;
+	b->cap = 0;
+	return dp_io_builder_reserve(b, cap, err);
+}
+
+void dp_io_builder_set_rgb(dp_io_builder *b, size_t index, const unsigned char rgb[3])
+{
+	if (b->colours && index < b->c.n)
+		memcpy(b->c.rgb + 3 * index, rgb, 3);
+}
+
 /* realloc that leaves *p untouched on failure, so every array stays owned. */
 static int grow_array(float **p, size_t n)
 {
@@ -51,6 +67,12 @@ dp_status dp_io_builder_reserve(dp_io_builder *b, size_t n, dp_error *err)
 	for (int i = 0; i < count; i++)
 		if (!grow_array(arrays[i], n))
 			return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu points", n);
+	if (b->colours) {
+		unsigned char *rgb = realloc(b->c.rgb, 3 * (n ? n : 1));
+		if (!rgb)
+			return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu colours", n);
+		b->c.rgb = rgb;
+	}
 	b->cap = n;
 	return DP_OK;
 }
@@ -73,6 +95,8 @@ dp_status dp_io_builder_add(dp_io_builder *b, float x, float y, float z, const f
 		b->c.ny[i] = normal[1];
 		b->c.nz[i] = normal[2];
 	}
+	if (b->colours)
+		memset(b->c.rgb + 3 * i, 0, 3);
 	return DP_OK;
 }
 
@@ -148,6 +172,7 @@ dp_status dp_io_builder_finish(dp_io_builder *b, const char *path, dp_cloud *clo
 	c->nx = trimmed(c->nx, bytes);
 	c->ny = trimmed(c->ny, bytes);
 	c->nz = trimmed(c->nz, bytes);
+	c->rgb = trimmed(c->rgb, 3 * c->n);
 	if (c->nfaces == 0) {
 		free(c->faces);
 		c->faces = NULL;

@@ -26,9 +26,15 @@ typedef struct dp_io_stream {
 	uint64_t offset;     /* file offset of buf[0] */
 	uint64_t size;       /* file size; UINT64_MAX when not a regular file */
 	size_t line;         /* number of the last line returned, from 1 */
+	uint64_t raw_pos;    /* bytes taken from the file or memory (compressed ones when gz) */
+	uint64_t raw_size;   /* of the memory read (size becomes unknown when it is gzip) */
+	void *gz;            /* decompression state when the input is gzip, else NULL */
+	const char *columns; /* XYZ columns named by the caller ("x,y,z,r,g,b"), NULL: detected */
 } dp_io_stream;
 
-/* Opens `path`; DP_ERR_IO (with strerror) when missing or unreadable. */
+/* Opens `path` ("-": standard input); DP_ERR_IO (with strerror) when missing
+ * or unreadable. Content starting with the gzip magic is decompressed on the
+ * fly (files and memory alike), its size then unknown. */
 dp_status dp_io_open(dp_io_stream *s, const char *path, dp_error *err);
 /* Reads `size` bytes at `data` (kept, not copied, until dp_io_close) as if they
  * were a file named `name`. Fails only with DP_ERR_NOMEM. */
@@ -108,6 +114,7 @@ typedef struct dp_io_builder {
 	size_t cap;          /* points allocated */
 	size_t face_cap;     /* triangles allocated */
 	int normals;         /* points carry normals */
+	int colours;         /* points carry colours (c.rgb, 3 bytes each) */
 } dp_io_builder;
 
 /* A polygon being fanned into triangles (v0, v[i-1], v[i]). */
@@ -119,6 +126,10 @@ typedef struct dp_io_fan {
 void dp_io_builder_init(dp_io_builder *b);
 /* Gives the builder normal arrays; call before adding points. */
 dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err);
+/* Gives the builder colour arrays; call before adding points. Each added
+ * point's colour is then set with dp_io_builder_set_rgb (black otherwise). */
+dp_status dp_io_builder_want_colours(dp_io_builder *b, dp_error *err);
+void dp_io_builder_set_rgb(dp_io_builder *b, size_t index, const unsigned char rgb[3]);
 /* Allocates room for n points (a count already checked against the file). */
 dp_status dp_io_builder_reserve(dp_io_builder *b, size_t n, dp_error *err);
 /* Appends a point; `normal` is ignored unless the builder has normals. */
@@ -153,6 +164,21 @@ dp_status dp_io_read_xyz(dp_io_stream *s, dp_io_builder *b, int flags, dp_error 
 dp_status dp_io_read_pcd(dp_io_stream *s, dp_io_builder *b, int flags, dp_error *err);
 dp_status dp_io_read_off(dp_io_stream *s, dp_io_builder *b, int flags, dp_error *err);
 dp_status dp_io_read_obj(dp_io_stream *s, dp_io_builder *b, int flags, dp_error *err);
+
+/* dp_cloud_read with the format given (an extension: "ply", "xyz", ...; NULL
+ * takes it from the path, ignoring a trailing ".gz") and, for XYZ-like text,
+ * the columns (NULL: detected from the data). `path` "-" reads standard
+ * input, which then needs `format`. Same errors as dp_cloud_read. */
+dp_status dp_io_read_cloud(const char *path, const char *format, const char *columns, dp_cloud *cloud, int flags,
+			   dp_error *err);
+/* The format dp_io_read_cloud would take from `path` ("" when none). */
+const char *dp_io_format_of(const char *path);
+
+/* dp_ply_write with per-vertex colours: rgb, when not NULL, holds 3 bytes a
+ * vertex, written after the float properties as uchar red, green, blue. */
+dp_status dp_io_ply_write_rgb(const char *path, size_t n, const dp_ply_property *props, size_t nprops,
+			      const unsigned char *rgb, const uint32_t *edges, size_t nedges, const uint32_t *faces,
+			      size_t nfaces, int ascii, dp_error *err);
 
 /* ---------------------------------------------------------- atomic output */
 

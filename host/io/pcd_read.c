@@ -13,9 +13,11 @@
  * bound far above it keeps a lying SIZE/COUNT from sizing the read buffer. */
 #define PCD_MAX_POINT_BYTES 65536
 
-enum pcd_role { PCD_X, PCD_Y, PCD_Z, PCD_NX, PCD_NY, PCD_NZ, PCD_ROLES };
+/* PCD_RGB holds PCL's packed colour, 0x00RRGGBB ("rgb", a float's bits) or
+ * 0xAARRGGBB ("rgba", an unsigned int): its bits travel in the float slot. */
+enum pcd_role { PCD_X, PCD_Y, PCD_Z, PCD_NX, PCD_NY, PCD_NZ, PCD_RGB, PCD_ROLES };
 
-static const char *const pcd_role_names[PCD_ROLES] = {"x", "y", "z", "normal_x", "normal_y", "normal_z"};
+static const char *const pcd_role_names[PCD_ROLES] = {"x", "y", "z", "normal_x", "normal_y", "normal_z", "rgb"};
 
 enum pcd_data { PCD_NO_DATA, PCD_ASCII, PCD_BINARY };
 
@@ -41,10 +43,13 @@ static void parse_fields(pcd_header *h, char **tok, int ntok)
 	h->nfields = ntok - 1;
 	for (int r = 0; r < PCD_ROLES; r++)
 		h->role_field[r] = -1;
-	for (int i = 0; i < h->nfields; i++)
+	for (int i = 0; i < h->nfields; i++) {
 		for (int r = 0; r < PCD_ROLES; r++)
 			if (strcmp(tok[i + 1], pcd_role_names[r]) == 0)
 				h->role_field[r] = i;
+		if (strcmp(tok[i + 1], "rgba") == 0)
+			h->role_field[PCD_RGB] = i;
+	}
 }
 
 static dp_status parse_numbers(dp_io_stream *s, char **tok, int ntok, uint64_t *out, int *n,
@@ -162,6 +167,8 @@ static dp_status check_header(dp_io_stream *s, pcd_header *h, dp_error *err)
 	for (int r = 0; r < PCD_ROLES; r++)
 		if (h->role_field[r] >= 0 && h->count[h->role_field[r]] != 1)
 			return dp_fail(err, DP_ERR_FORMAT, "%s: field %s must have COUNT 1", s->path, pcd_role_names[r]);
+	if (h->role_field[PCD_RGB] >= 0 && h->size[h->role_field[PCD_RGB]] != 4)
+		return dp_fail(err, DP_ERR_FORMAT, "%s: field rgb/rgba must have SIZE 4 (packed colour)", s->path);
 	if (h->have_width && h->have_height && h->height && h->width > UINT64_MAX / h->height)
 		return dp_fail(err, DP_ERR_FORMAT, "%s: WIDTH x HEIGHT overflows", s->path);
 	if (!h->have_points) {
@@ -212,9 +219,36 @@ static dp_status add_point(dp_io_stream *s, dp_io_builder *b, uint64_t index, co
 		normal[0] = normal[1] = normal[2] = 0;
 	dp_status st = dp_io_check_finite(s->path, (size_t)index, v[PCD_X], v[PCD_Y], v[PCD_Z],
 					  b->normals ? normal : NULL, err);
-	if (st != DP_OK)
-		return st;
-	return dp_io_builder_add(b, v[PCD_X], v[PCD_Y], v[PCD_Z], normal, err);
+	if (st == DP_OK)
+		st = dp_io_builder_add(b, v[PCD_X], v[PCD_Y], v[PCD_Z], normal, err);
+	if (st == DP_OK && b->colours) {
+		uint32_t packed;
+		memcpy(&packed, &v[PCD_RGB], sizeof packed);
+		unsigned char rgb[3] = {(unsigned char)(packed >> 16), (unsigned char)(packed >> 8), (unsigned char)packed};
+		dp_io_builder_set_rgb(b, b->c.n - 1, rgb);
+	}
+	return st;
+}
+
+/* The packed colour's bits from an ascii token: a float for "rgb" of TYPE F,
+ * an integer for TYPE U or I. */
+static int scan_packed(char **cur, dp_io_kind kind, float *slot)
+{
+	uint32_t packed;
+	if (kind == DP_IO_FLOAT) {
+		float f;
+		int r = dp_io_scan_float(cur, &f);
+		memcpy(&packed, &f, sizeof packed);
+		if (r == 1)
+			memcpy(slot, &packed, sizeof packed);
+		return r;
+	}
+	long long v;
+	int r = dp_io_scan_int(cur, &v);
+	packed = (uint32_t)v;
+	if (r == 1)
+		memcpy(slot, &packed, sizeof packed);
+	return r;
 }
 
 static dp_status read_ascii(dp_io_stream *s, const pcd_header *h, dp_io_builder *b, dp_error *err)
@@ -241,8 +275,9 @@ static dp_status read_ascii(dp_io_stream *s, const pcd_header *h, dp_io_builder 
 		cur = line;
 		for (int i = 0; i < h->nfields; i++) {
 			for (uint64_t c = 0; c < h->count[i]; c++) {
-				int r = field_role[i] >= 0 ? dp_io_scan_float(&cur, &v[field_role[i]])
-							    : dp_io_scan_skip(&cur);
+				int r = field_role[i] == PCD_RGB ? scan_packed(&cur, h->kind[i], &v[PCD_RGB])
+					: field_role[i] >= 0	 ? dp_io_scan_float(&cur, &v[field_role[i]])
+								 : dp_io_scan_skip(&cur);
 				if (r == 0)
 					return dp_fail(err, DP_ERR_FORMAT, "%s: line %zu: fewer values than FIELDS and COUNT describe",
 						       s->path, s->line);
@@ -282,8 +317,12 @@ static dp_status read_binary(dp_io_stream *s, const pcd_header *h, dp_io_builder
 				       s->path, (unsigned long long)done, (unsigned long long)h->points);
 		for (int r = 0; r < PCD_ROLES; r++) {
 			int f = h->role_field[r];
-			if (f >= 0)
+			if (f >= 0 && r == PCD_RGB) {
+				uint32_t packed = (uint32_t)dp_io_decode(p + offset[r], DP_IO_UINT, 4, 0);
+				memcpy(&v[r], &packed, sizeof packed);
+			} else if (f >= 0) {
 				v[r] = (float)dp_io_decode(p + offset[r], h->kind[f], h->size[f], 0);
+			}
 		}
 		if ((st = add_point(s, b, done, v, err)) != DP_OK)
 			return st;
@@ -314,6 +353,8 @@ dp_status dp_io_read_pcd(dp_io_stream *s, dp_io_builder *b, int flags, dp_error 
 	if ((st = dp_io_check_count(s, h.points, min_bytes, "points", err)) != DP_OK)
 		return st;
 	if (h.normals && (st = dp_io_builder_want_normals(b, err)) != DP_OK)
+		return st;
+	if (h.role_field[PCD_RGB] >= 0 && (st = dp_io_builder_want_colours(b, err)) != DP_OK)
 		return st;
 	if (h.points > SIZE_MAX)
 		return dp_fail(err, DP_ERR_FORMAT, "%s: too many points", s->path);

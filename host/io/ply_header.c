@@ -70,6 +70,14 @@ static dp_status add_property(dp_io_stream *s, ply_header *h, char **tok, int nt
 		for (int r = ROLE_X; r <= ROLE_NZ; r++)
 			if (strcmp(name, vertex_roles[r]) == 0)
 				p->role = r;
+		/* MeshLab and CloudCompare write red/green/blue; some tools diffuse_red... */
+		const char *colour = strncmp(name, "diffuse_", 8) == 0 ? name + 8 : name;
+		if (strcmp(colour, "red") == 0)
+			p->role = ROLE_RED;
+		else if (strcmp(colour, "green") == 0)
+			p->role = ROLE_GREEN;
+		else if (strcmp(colour, "blue") == 0)
+			p->role = ROLE_BLUE;
 	}
 	if (strcmp(el->name, "face") == 0 && p->is_list &&
 	    (strcmp(name, "vertex_indices") == 0 || strcmp(name, "vertex_index") == 0))
@@ -145,6 +153,11 @@ static dp_status check_vertex(dp_io_stream *s, ply_header *h, dp_error *err)
 	if (!seen[ROLE_X] || !seen[ROLE_Y] || !seen[ROLE_Z])
 		return dp_fail(err, DP_ERR_FORMAT, "%s: the vertex element lacks an x, y or z property", s->path);
 	h->normals = seen[ROLE_NX] && seen[ROLE_NY] && seen[ROLE_NZ];
+	int colours[3] = {0, 0, 0};
+	for (int i = 0; i < el->nprops; i++)
+		if (el->props[i].role >= ROLE_RED && el->props[i].role <= ROLE_BLUE)
+			colours[el->props[i].role - ROLE_RED] = 1;
+	h->colours = colours[0] && colours[1] && colours[2];
 	return DP_OK;
 }
 

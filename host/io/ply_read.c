@@ -167,6 +167,26 @@ static dp_status add_edge(ply_source *src, const double value[2], dp_error *err)
 	return DP_OK;
 }
 
+/* Colour properties as bytes: uchar as is, floats in [0, 1] scaled, 16-bit
+ * integers scaled down; out of range values clamped. */
+static void set_colour(ply_source *src, const double *value)
+{
+	unsigned char rgb[3];
+	for (int c = 0; c < 3; c++) {
+		const ply_property *p = NULL;
+		for (int i = 0; i < src->el->nprops && !p; i++)
+			if (src->el->props[i].role == ROLE_RED + c)
+				p = &src->el->props[i];
+		double x = value[c];
+		if (p && p->type.kind == DP_IO_FLOAT)
+			x *= 255.0;
+		else if (p && p->type.size >= 2)
+			x /= 257.0;
+		rgb[c] = (unsigned char)(x >= 255.0 ? 255.0 : x > 0.0 ? x + 0.5 : 0.0);
+	}
+	dp_io_builder_set_rgb(src->b, src->b->c.n - 1, rgb);
+}
+
 static dp_status read_row(ply_source *src, int is_vertex, dp_error *err)
 {
 	double v[ROLE_COUNT] = {0};
@@ -201,7 +221,10 @@ static dp_status read_row(ply_source *src, int is_vertex, dp_error *err)
 	}
 	if (is_vertex) {
 		float normal[3] = {(float)v[ROLE_NX], (float)v[ROLE_NY], (float)v[ROLE_NZ]};
-		return dp_io_builder_add(src->b, (float)v[ROLE_X], (float)v[ROLE_Y], (float)v[ROLE_Z], normal, err);
+		dp_status st = dp_io_builder_add(src->b, (float)v[ROLE_X], (float)v[ROLE_Y], (float)v[ROLE_Z], normal, err);
+		if (st == DP_OK && src->b->colours)
+			set_colour(src, v + ROLE_RED);
+		return st;
 	}
 	if (src->edges && strcmp(el->name, "edge") == 0)
 		return add_edge(src, v + ROLE_EDGE1, err);
@@ -213,6 +236,8 @@ static dp_status read_data(ply_source *src, const ply_header *h, dp_error *err)
 	dp_io_stream *s = src->s;
 	dp_status st;
 	if (h->normals && (st = dp_io_builder_want_normals(src->b, err)) != DP_OK)
+		return st;
+	if (h->colours && (st = dp_io_builder_want_colours(src->b, err)) != DP_OK)
 		return st;
 	for (int e = 0; e < h->nelements; e++) {
 		const ply_element *el = &h->elements[e];

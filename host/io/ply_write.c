@@ -49,16 +49,19 @@ static void sink_float(byte_sink *k, float f)
 	sink_u32(k, bits);
 }
 
-static int write_binary(FILE *f, size_t n, const dp_ply_property *props, size_t nprops, const uint32_t *edges,
-			size_t nedges, const uint32_t *faces, size_t nfaces)
+static int write_binary(FILE *f, size_t n, const dp_ply_property *props, size_t nprops, const unsigned char *rgb,
+			const uint32_t *edges, size_t nedges, const uint32_t *faces, size_t nfaces)
 {
 	byte_sink k;
 	k.f = f;
 	k.used = 0;
 	k.failed = 0;
-	for (size_t i = 0; i < n; i++)
+	for (size_t i = 0; i < n; i++) {
 		for (size_t p = 0; p < nprops; p++)
 			sink_float(&k, props[p].values[i]);
+		for (int c = 0; rgb && c < 3; c++)
+			sink_u8(&k, rgb[3 * i + c]);
+	}
 	for (size_t i = 0; i < 2 * nedges; i++)
 		sink_u32(&k, edges[i]);
 	for (size_t i = 0; i < nfaces; i++) {
@@ -70,13 +73,17 @@ static int write_binary(FILE *f, size_t n, const dp_ply_property *props, size_t 
 	return !k.failed;
 }
 
-static int write_ascii(FILE *f, size_t n, const dp_ply_property *props, size_t nprops, const uint32_t *edges,
-		       size_t nedges, const uint32_t *faces, size_t nfaces)
+static int write_ascii(FILE *f, size_t n, const dp_ply_property *props, size_t nprops, const unsigned char *rgb,
+		       const uint32_t *edges, size_t nedges, const uint32_t *faces, size_t nfaces)
 {
-	for (size_t i = 0; i < n; i++)
+	for (size_t i = 0; i < n; i++) {
 		for (size_t p = 0; p < nprops; p++)
-			if (fprintf(f, PLY_FLOAT_FORMAT "%c", (double)props[p].values[i], p + 1 < nprops ? ' ' : '\n') < 0)
+			if (fprintf(f, PLY_FLOAT_FORMAT "%c", (double)props[p].values[i],
+				    p + 1 < nprops || rgb ? ' ' : '\n') < 0)
 				return 0;
+		if (rgb && fprintf(f, "%u %u %u\n", rgb[3 * i], rgb[3 * i + 1], rgb[3 * i + 2]) < 0)
+			return 0;
+	}
 	for (size_t i = 0; i < nedges; i++)
 		if (fprintf(f, "%u %u\n", edges[2 * i], edges[2 * i + 1]) < 0)
 			return 0;
@@ -134,6 +141,13 @@ dp_status dp_ply_write(const char *path, size_t n, const dp_ply_property *props,
 		       const uint32_t *edges, size_t nedges, const uint32_t *faces, size_t nfaces,
 		       int ascii, dp_error *err)
 {
+	return dp_io_ply_write_rgb(path, n, props, nprops, NULL, edges, nedges, faces, nfaces, ascii, err);
+}
+
+dp_status dp_io_ply_write_rgb(const char *path, size_t n, const dp_ply_property *props, size_t nprops,
+			      const unsigned char *rgb, const uint32_t *edges, size_t nedges, const uint32_t *faces,
+			      size_t nfaces, int ascii, dp_error *err)
+{
 	dp_status st = check_args(path, n, props, nprops, edges, nedges, faces, nfaces, err);
 	if (st != DP_OK)
 		return st;
@@ -146,14 +160,16 @@ dp_status dp_ply_write(const char *path, size_t n, const dp_ply_property *props,
 			 ascii ? "ascii" : "binary_little_endian", n) > 0;
 	for (size_t p = 0; p < nprops && ok; p++)
 		ok = fprintf(f, "property float %s\n", props[p].name) > 0;
+	if (ok && rgb)
+		ok = fprintf(f, "property uchar red\nproperty uchar green\nproperty uchar blue\n") > 0;
 	if (ok && nedges)
 		ok = fprintf(f, "element edge %zu\nproperty int vertex1\nproperty int vertex2\n", nedges) > 0;
 	if (ok && nfaces)
 		ok = fprintf(f, "element face %zu\nproperty list uchar int vertex_indices\n", nfaces) > 0;
 	ok = ok && fprintf(f, "end_header\n") > 0;
 	if (ok)
-		ok = ascii ? write_ascii(f, n, props, nprops, edges, nedges, faces, nfaces)
-			   : write_binary(f, n, props, nprops, edges, nedges, faces, nfaces);
+		ok = ascii ? write_ascii(f, n, props, nprops, rgb, edges, nedges, faces, nfaces)
+			   : write_binary(f, n, props, nprops, rgb, edges, nedges, faces, nfaces);
 	if (!ok) {
 		int e = errno;
 		dp_atomic_abort(&af);
@@ -172,5 +188,5 @@ dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii,
 	};
 	size_t nprops = cloud->nx ? 6 : 3;
 	size_t nfaces = cloud->faces ? cloud->nfaces : 0;
-	return dp_ply_write(path, cloud->n, props, nprops, NULL, 0, cloud->faces, nfaces, ascii, err);
+	return dp_io_ply_write_rgb(path, cloud->n, props, nprops, cloud->rgb, NULL, 0, cloud->faces, nfaces, ascii, err);
 }

@@ -14,29 +14,53 @@ static const struct {
 	{"obj", dp_io_read_obj},
 };
 
-/* The extension of the file name (not of a folder in the path), or "". */
+/* The extension of the file name (not of a folder in the path), or "";
+ * "scan.ply.gz" gives "ply" (the stream decompresses whatever the format),
+ * an unknown one before ".gz" gives "gz". */
 static const char *extension(const char *path)
 {
 	const char *slash = strrchr(path, '/');
 	const char *name = slash ? slash + 1 : path;
 	const char *dot = strrchr(name, '.');
-	return dot && dot != name ? dot + 1 : "";
+	if (!dot || dot == name)
+		return "";
+	if (strcasecmp(dot, ".gz") != 0)
+		return dot + 1;
+	const char *inner = dot;
+	while (inner > name && inner[-1] != '.')
+		inner--;
+	if (inner - 1 > name)
+		for (size_t i = 0; i < sizeof readers / sizeof readers[0]; i++)
+			if (strlen(readers[i].extension) == (size_t)(dot - inner) &&
+			    strncasecmp(inner, readers[i].extension, (size_t)(dot - inner)) == 0)
+				return readers[i].extension;
+	return dot + 1;
 }
 
-/* The reader for the extension of `path`, or NULL. */
-static dp_io_reader reader_for(const char *path)
+const char *dp_io_format_of(const char *path)
 {
-	const char *ext = extension(path);
+	return extension(path);
+}
+
+/* The reader for format (an extension), or NULL. */
+static dp_io_reader reader_of(const char *ext)
+{
 	for (size_t i = 0; i < sizeof readers / sizeof readers[0]; i++)
 		if (strcasecmp(ext, readers[i].extension) == 0)
 			return readers[i].read;
 	return NULL;
 }
 
+static dp_io_reader reader_for(const char *path)
+{
+	return reader_of(extension(path));
+}
+
 static dp_status unknown_format(const char *path, dp_error *err)
 {
 	return dp_fail(err, DP_ERR_FORMAT,
-		       "%s: unknown point file format '%s' (expected .ply, .xyz, .xyzn, .pwn, .txt, .pts, .pcd, .off or .obj)",
+		       "%s: unknown point file format '%s' (expected .ply, .xyz, .xyzn, .pwn, .txt, .pts, .pcd, .off or .obj, "
+		       "optionally gzip-compressed as .ply.gz and so on; --format names it)",
 		       path, extension(path));
 }
 
@@ -60,6 +84,12 @@ static dp_status read_stream(dp_io_stream *s, dp_io_reader read, dp_cloud *cloud
 
 dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *err)
 {
+	return dp_io_read_cloud(path, NULL, NULL, cloud, flags, err);
+}
+
+dp_status dp_io_read_cloud(const char *path, const char *format, const char *columns, dp_cloud *cloud, int flags,
+			   dp_error *err)
+{
 	if (!cloud)
 		return dp_fail(err, DP_ERR_ARG, "dp_cloud_read: cloud is NULL");
 	memset(cloud, 0, sizeof *cloud);
@@ -67,15 +97,25 @@ dp_status dp_cloud_read(const char *path, dp_cloud *cloud, int flags, dp_error *
 		return dp_fail(err, DP_ERR_ARG, "dp_cloud_read: path is NULL");
 	if (flags & ~DP_READ_MESH)
 		return dp_fail(err, DP_ERR_ARG, "%s: unknown read flags 0x%x", path, (unsigned)flags);
+	int is_stdin = strcmp(path, "-") == 0;
+	if (is_stdin && !format)
+		return dp_fail(err, DP_ERR_ARG, "standard input: its format is unknown; name it with --format "
+						"(ply, xyz, pts, pcd, off, obj, ...)");
+	dp_io_reader read = format ? reader_of(format) : reader_for(path);
+	if (!read && format)
+		return dp_fail(err, DP_ERR_ARG,
+			       "%s: unknown format '%s' (expected ply, xyz, xyzn, pwn, txt, pts, pcd, off or obj)",
+			       is_stdin ? "standard input" : path, format);
+	if (!read)
+		return unknown_format(path, err);
+	if (columns && read != dp_io_read_xyz)
+		return dp_fail(err, DP_ERR_ARG, "%s: columns can be named for XYZ-like text only (.xyz, .txt, .pts, ...)",
+			       is_stdin ? "standard input" : path);
 	dp_io_stream s;
 	dp_status st = dp_io_open(&s, path, err);
 	if (st != DP_OK)
 		return st;
-	dp_io_reader read = reader_for(path);
-	if (!read) {
-		dp_io_close(&s);
-		return unknown_format(path, err);
-	}
+	s.columns = columns;
 	return read_stream(&s, read, cloud, flags, err);
 }
 

@@ -4,10 +4,12 @@
 
 #include <errno.h>
 #include <fcntl.h>
+#include <limits.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/stat.h>
 #include <unistd.h>
+#include <zlib.h>
 
 /* Large enough that read(2) and refills cost nothing next to parsing. A
  * build may make it tiny (CMake DP_STREAM_CHUNK) so that tests and fuzzers
@@ -24,12 +26,23 @@
  * by the header parser. */
 #define STREAM_MAX_LINE ((size_t)16 << 20)
 
+/* Compressed input: raw bytes go through `in` into zlib, which writes the
+ * stream's buffer, so every reader reads .gz files without knowing it. */
+typedef struct gz_source {
+	z_stream z;
+	int ended; /* the last member ended (more raw bytes may start another) */
+	unsigned char in[1 << 16];
+} gz_source;
+
 dp_status dp_io_open(dp_io_stream *s, const char *path, dp_error *err)
 {
 	memset(s, 0, sizeof *s);
 	s->fd = -1;
 	s->path = path;
-	int fd = open(path, O_RDONLY | O_CLOEXEC);
+	/* "-": standard input, whose format the caller names */
+	int fd = strcmp(path, "-") == 0 ? fcntl(STDIN_FILENO, F_DUPFD_CLOEXEC, 0) : open(path, O_RDONLY | O_CLOEXEC);
+	if (strcmp(path, "-") == 0)
+		s->path = "standard input";
 	if (fd < 0)
 		return dp_fail(err, DP_ERR_IO, "%s: cannot open: %s", path, strerror(errno));
 	struct stat st;
@@ -60,7 +73,7 @@ dp_status dp_io_open_memory(dp_io_stream *s, const void *data, size_t size, cons
 	s->fd = -1;
 	s->path = name;
 	s->mem = data;
-	s->size = size;
+	s->size = s->raw_size = size;
 	s->cap = size < STREAM_CHUNK ? size + STREAM_MIN_CAP : STREAM_CHUNK;
 	s->buf = malloc(s->cap + 1);
 	if (!s->buf)
@@ -68,22 +81,114 @@ dp_status dp_io_open_memory(dp_io_stream *s, const void *data, size_t size, cons
 	return DP_OK;
 }
 
-/* read(2) for both kinds of stream: bytes from the file or from memory. */
-static ssize_t source_read(dp_io_stream *s, char *dst, size_t n)
+/* read(2) for both kinds of stream: raw bytes from the file or from memory. */
+static ssize_t raw_read(dp_io_stream *s, void *dst, size_t n)
 {
-	if (s->fd >= 0)
-		return read(s->fd, dst, n);
-	uint64_t done = s->offset + s->end;
-	size_t left = (size_t)(s->size - done);
+	if (s->fd >= 0) {
+		ssize_t got;
+		do
+			got = read(s->fd, dst, n);
+		while (got < 0 && errno == EINTR);
+		if (got > 0)
+			s->raw_pos += (uint64_t)got;
+		return got;
+	}
+	size_t left = (size_t)(s->raw_size - s->raw_pos);
 	if (n > left)
 		n = left;
 	if (n > 0)
-		memcpy(dst, s->mem + done, n);
+		memcpy(dst, s->mem + s->raw_pos, n);
+	s->raw_pos += n;
 	return (ssize_t)n;
+}
+
+/* Switches to decompression when the first raw bytes are a gzip header;
+ * `head` holds them, and they become zlib's first input. */
+static dp_status gz_begin(dp_io_stream *s, const unsigned char *head, size_t n, dp_error *err)
+{
+	gz_source *g = malloc(sizeof *g);
+	if (!g)
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for decompression", s->path);
+	memset(&g->z, 0, sizeof g->z);
+	g->ended = 0;
+	/* 16 + 15: a gzip wrapper and the largest window */
+	if (inflateInit2(&g->z, 16 + 15) != Z_OK) {
+		free(g);
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for decompression", s->path);
+	}
+	memcpy(g->in, head, n);
+	g->z.next_in = g->in;
+	g->z.avail_in = (uInt)n;
+	s->gz = g;
+	/* the decompressed size is known only at the end */
+	s->size = UINT64_MAX;
+	return DP_OK;
+}
+
+static dp_status gz_read(dp_io_stream *s, char *dst, size_t n, size_t *got, dp_error *err)
+{
+	gz_source *g = s->gz;
+	*got = 0;
+	g->z.next_out = (unsigned char *)dst;
+	g->z.avail_out = (uInt)(n > UINT_MAX ? UINT_MAX : n);
+	while (g->z.avail_out > 0) {
+		if (g->z.avail_in == 0) {
+			ssize_t r = raw_read(s, g->in, sizeof g->in);
+			if (r < 0)
+				return dp_fail(err, DP_ERR_IO, "%s: read failed: %s", s->path, strerror(errno));
+			if (r == 0) {
+				if (!g->ended)
+					return dp_fail(err, DP_ERR_FORMAT, "%s: the gzip data is truncated", s->path);
+				break;
+			}
+			g->z.next_in = g->in;
+			g->z.avail_in = (uInt)r;
+		}
+		if (g->ended) {
+			/* gzip allows members one after another (cat a.gz b.gz) */
+			if (inflateReset(&g->z) != Z_OK)
+				return dp_fail(err, DP_ERR_FORMAT, "%s: gzip data is corrupt", s->path);
+			g->ended = 0;
+		}
+		int zr = inflate(&g->z, Z_NO_FLUSH);
+		if (zr == Z_STREAM_END)
+			g->ended = 1;
+		else if (zr == Z_MEM_ERROR)
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory decompressing", s->path);
+		else if (zr != Z_OK && zr != Z_BUF_ERROR)
+			return dp_fail(err, DP_ERR_FORMAT, "%s: gzip data is corrupt: %s", s->path,
+				       g->z.msg ? g->z.msg : "inflate failed");
+	}
+	*got = (size_t)((char *)g->z.next_out - dst);
+	return DP_OK;
+}
+
+/* Up to n bytes of content into dst (*got 0 at the end), decompressed when
+ * the input is gzip. */
+static dp_status source_read(dp_io_stream *s, char *dst, size_t n, size_t *got, dp_error *err)
+{
+	*got = 0;
+	if (s->gz)
+		return gz_read(s, dst, n, got, err);
+	int first = s->raw_pos == 0;
+	ssize_t r = raw_read(s, dst, n);
+	if (r < 0)
+		return dp_fail(err, DP_ERR_IO, "%s: read failed: %s", s->path, strerror(errno));
+	if (first && r >= 2 && (unsigned char)dst[0] == 0x1f && (unsigned char)dst[1] == 0x8b) {
+		dp_status st = gz_begin(s, (const unsigned char *)dst, (size_t)r, err);
+		return st != DP_OK ? st : gz_read(s, dst, n, got, err);
+	}
+	*got = (size_t)r;
+	return DP_OK;
 }
 
 void dp_io_close(dp_io_stream *s)
 {
+	if (s->gz) {
+		inflateEnd(&((gz_source *)s->gz)->z);
+		free(s->gz);
+		s->gz = NULL;
+	}
 	if (s->fd >= 0)
 		close(s->fd);
 	free(s->buf);
@@ -112,15 +217,13 @@ static dp_status fill(dp_io_stream *s, size_t need, dp_error *err)
 		s->cap = cap;
 	}
 	while (s->end < need && !s->eof) {
-		ssize_t got = source_read(s, s->buf + s->end, s->cap - s->end);
-		if (got < 0) {
-			if (errno == EINTR)
-				continue;
-			return dp_fail(err, DP_ERR_IO, "%s: read failed: %s", s->path, strerror(errno));
-		}
+		size_t got;
+		dp_status st = source_read(s, s->buf + s->end, s->cap - s->end, &got, err);
+		if (st != DP_OK)
+			return st;
 		if (got == 0)
 			s->eof = 1;
-		s->end += (size_t)got;
+		s->end += got;
 	}
 	return DP_OK;
 }
