@@ -24,8 +24,14 @@
  * backend (FLANN kNN): their lines time the same code twice.
  * "seconds" is the wall time of the public call, measured here around it.
  * The reference is skipped (a line with "skipped") above --ref-max samples.
+ * OpenCL lines also give the bytes moved host -> device and device -> host
+ * (whole stage and per iteration) and the bytes not uploaded because the
+ * device buffer already held them, and each is followed by one
+ * {"what":"operator"} line per kernel the stage launched: launches, seconds,
+ * candidate pairs and their rate, bytes each way.
  */
 #include "dpoints_tools.h"
+#include "backend/context.h"
 #include "core/common.h"
 #include "knn/knn.h"
 
@@ -296,7 +302,29 @@ typedef struct run_result {
 	double seconds_spacing;
 	int sink;       /* the three counts below are set */
 	size_t settled_front, settled_slow, unsettled;
+	int moved; /* the byte counts below are set (OpenCL runs) */
+	double h2d, d2h, h2d_skipped;
 } run_result;
+
+/* The OpenCL context's transfer and per-kernel counters at one moment. */
+typedef struct cl_counters {
+	double h2d, d2h, skipped;
+	size_t nkernels;
+	dp_cl_kernel_stats k[DP_CL_MAX_KERNELS];
+	char names[DP_CL_MAX_KERNELS][64];
+} cl_counters;
+
+static void cl_counters_take(const dp_context *ctx, cl_counters *c)
+{
+	c->h2d = ctx->cl.h2d_bytes;
+	c->d2h = ctx->cl.d2h_bytes;
+	c->skipped = ctx->cl.h2d_skipped_bytes;
+	c->nkernels = ctx->cl.nkernels;
+	for (size_t i = 0; i < c->nkernels; i++) {
+		c->k[i] = ctx->cl.kernels[i].stats;
+		memcpy(c->names[i], ctx->cl.kernels[i].name, sizeof c->names[i]);
+	}
+}
 
 static void print_head(const input_case *in, const char *stage, const char *backend)
 {
@@ -330,7 +358,39 @@ static void print_run(const input_case *in, const char *stage, dp_context *ctx, 
 	if (r->sink)
 		printf(",\"settled_front\":%zu,\"settled_slow\":%zu,\"unsettled\":%zu", r->settled_front,
 		       r->settled_slow, r->unsettled);
+	if (r->moved) {
+		double it = r->iterations > 0 ? r->iterations : 1;
+		printf(",\"h2d_bytes\":%.0f,\"d2h_bytes\":%.0f,\"h2d_bytes_per_iter\":%.0f,\"d2h_bytes_per_iter\":%.0f,"
+		       "\"h2d_skipped_bytes\":%.0f",
+		       r->h2d, r->d2h, r->h2d / it, r->d2h / it, r->h2d_skipped);
+	}
 	printf(",\"loadavg_1m\":%.2f", load[0]);
+}
+
+/* One line per kernel launched between the two counters. */
+static void print_operators(const input_case *in, const char *stage, const cl_counters *before,
+			    const cl_counters *after)
+{
+	for (size_t i = 0; i < after->nkernels; i++) {
+		dp_cl_kernel_stats d = after->k[i];
+		if (i < before->nkernels) {
+			d.launches -= before->k[i].launches;
+			d.seconds -= before->k[i].seconds;
+			d.h2d_bytes -= before->k[i].h2d_bytes;
+			d.d2h_bytes -= before->k[i].d2h_bytes;
+			d.h2d_skipped_bytes -= before->k[i].h2d_skipped_bytes;
+			d.pairs -= before->k[i].pairs;
+		}
+		if (d.launches <= 0.0)
+			continue;
+		printf("{\"what\":\"operator\",\"stage\":\"%s\",\"input\":\"%s\",\"kernel\":\"%s\",\"launches\":%.0f,"
+		       "\"seconds\":%.4f,\"pair_evaluations\":%.6g,\"pair_evals_per_s\":%.4g,\"h2d_bytes\":%.0f,"
+		       "\"d2h_bytes\":%.0f,\"h2d_bytes_per_launch\":%.0f,\"h2d_skipped_bytes\":%.0f}\n",
+		       stage, in->name, after->names[i], d.launches,
+		       d.seconds, d.pairs, d.seconds > 0 ? d.pairs / d.seconds : 0.0, d.h2d_bytes, d.d2h_bytes,
+		       d.h2d_bytes / d.launches, d.h2d_skipped_bytes);
+	}
+	fflush(stdout);
 }
 
 /* Mean distance between corresponding points of two clouds of one order, in r. */
@@ -573,8 +633,15 @@ static int run_input(const bench *b, const input_case *in, const dp_cloud *c)
 		int want = o->stages[s] && !in->warm_up;
 		if (!in->warm_up)
 			fprintf(stderr, "bench_stages: %s %s\n", in->name, stage_names[s]);
+		cl_counters before, after;
+		cl_counters_take(b->cl, &before);
 		if (run_stage(b->cl, (stage_id)s, 0, &ch, &ch.out[s], &ch.r, &cl_runs[s], &err) != DP_OK)
 			goto done;
+		cl_counters_take(b->cl, &after);
+		cl_runs[s].moved = s != ST_NORMALS;
+		cl_runs[s].h2d = after.h2d - before.h2d;
+		cl_runs[s].d2h = after.d2h - before.d2h;
+		cl_runs[s].h2d_skipped = after.skipped - before.skipped;
 		/* r for the diffs of WLOP too; the normals line times it. */
 		if (s == ST_WLOP &&
 		    dp_mean_spacing(ch.out[s].n, ch.out[s].x, ch.out[s].y, ch.out[s].z, &ch.r, &err) != DP_OK)
@@ -589,6 +656,7 @@ static int run_input(const bench *b, const input_case *in, const dp_cloud *c)
 			       cl_runs[s].seconds_spacing);
 		printf("}\n");
 		fflush(stdout);
+		print_operators(in, stage_names[s], &before, &after);
 		if (!use_ref) {
 			print_skip(in, stage_names[s], "ref", why);
 			continue;

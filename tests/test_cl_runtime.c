@@ -82,6 +82,86 @@ static void test_embedded_program_builds_and_errors_are_named(void **state)
 	dp_cl_close(&cl);
 }
 
+/* Device buffers persist across launches: an input is uploaded only when its
+ * contents changed, an output read back is then an input already on the
+ * device, and every launch still computes from the host arrays' contents. */
+static void test_buffers_stay_on_the_device(void **state)
+{
+	(void)state;
+	const char *src = "__kernel void axpy(const uint n, __global const float *x, __global const float *y,\n"
+			  "                   const float a, __global float *out)\n"
+			  "{ uint i = get_global_id(0); if (i < n) out[i] = a * x[i] + y[i]; }\n";
+	dp_cl cl;
+	dp_error err = {0};
+	assert_int_equal(dp_cl_open_source(&cl, NULL, src, DP_CL_BUILD_OPTIONS, &err), DP_OK);
+	enum { N = 1000 };
+	static float x[N], y[N], out[N], out2[N];
+	for (int i = 0; i < N; i++) {
+		x[i] = (float)i;
+		y[i] = 1.0f;
+	}
+	const double bytes = N * sizeof(float);
+	float a = 2.0f;
+	dp_cl_arg args[] = {DP_CL_IN(x, sizeof x), DP_CL_IN(y, sizeof y), DP_CL_VALUE(a), DP_CL_OUT(out, sizeof out)};
+	assert_int_equal(dp_cl_launch(&cl, "axpy", N, args, 4, &err), DP_OK);
+	assert_true(cl.h2d_bytes == 2 * bytes && cl.d2h_bytes == bytes && cl.h2d_skipped_bytes == 0.0);
+	assert_true(out[10] == 21.0f);
+	/* unchanged inputs: nothing uploaded */
+	assert_int_equal(dp_cl_launch(&cl, "axpy", N, args, 4, &err), DP_OK);
+	assert_true(cl.h2d_bytes == 2 * bytes && cl.h2d_skipped_bytes == 2 * bytes);
+	/* one element of y changed: y alone goes up again */
+	y[999] = 5.0f;
+	assert_int_equal(dp_cl_launch(&cl, "axpy", N, args, 4, &err), DP_OK);
+	assert_true(cl.h2d_bytes == 3 * bytes);
+	assert_true(out[999] == 2.0f * 999.0f + 5.0f && out[0] == 1.0f);
+	/* the output as an input: the device holds it already */
+	dp_cl_arg chain[] = {DP_CL_IN(out, sizeof out), DP_CL_IN(y, sizeof y), DP_CL_VALUE(a),
+			     DP_CL_OUT(out2, sizeof out2)};
+	assert_int_equal(dp_cl_launch(&cl, "axpy", N, chain, 4, &err), DP_OK);
+	assert_true(cl.h2d_bytes == 3 * bytes);
+	assert_true(out2[10] == 2.0f * 21.0f + 1.0f);
+	/* an output that is also an input of the same launch is refused */
+	dp_cl_arg alias[] = {DP_CL_IN(out, sizeof out), DP_CL_IN(y, sizeof y), DP_CL_VALUE(a),
+			     DP_CL_OUT(out, sizeof out)};
+	assert_int_equal(dp_cl_launch(&cl, "axpy", N, alias, 4, &err), DP_ERR_INTERNAL);
+	/* after clearing, everything is uploaded again and still right */
+	dp_cl_cache_clear(&cl);
+	double before = cl.h2d_bytes;
+	x[10] = 0.0f;
+	assert_int_equal(dp_cl_launch(&cl, "axpy", N, args, 4, &err), DP_OK);
+	assert_true(cl.h2d_bytes == before + 2 * bytes && out[10] == 1.0f);
+	assert_true(cl.kernels[0].stats.launches == 6.0); /* the refused one counts */
+	dp_cl_close(&cl);
+}
+
+/* $DP_CL_LANES chooses the kernels' lane count whatever the device, so both
+ * forms run here; a bad value is refused. */
+static void test_lanes_forced(void **state)
+{
+	(void)state;
+	const char *saved = getenv("DP_CL_LANES");
+	char keep[16] = "";
+	if (saved)
+		snprintf(keep, sizeof keep, "%s", saved);
+	dp_cl cl;
+	dp_error err = {0};
+	setenv("DP_CL_LANES", "1", 1);
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_OK);
+	assert_int_equal(cl.lanes, 1);
+	dp_cl_close(&cl);
+	setenv("DP_CL_LANES", "3", 1);
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_ERR_ARG);
+	assert_non_null(strstr(err.message, "DP_CL_LANES"));
+	unsetenv("DP_CL_LANES");
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_OK);
+	cl_device_type type = 0;
+	assert_int_equal(clGetDeviceInfo(cl.device, CL_DEVICE_TYPE, sizeof type, &type, NULL), CL_SUCCESS);
+	assert_int_equal(cl.lanes, (type & CL_DEVICE_TYPE_CPU) ? DP_CL_LANES_CPU : DP_CL_LANES_GPU);
+	dp_cl_close(&cl);
+	if (saved)
+		setenv("DP_CL_LANES", keep, 1);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -89,6 +169,8 @@ int main(void)
 		cmocka_unit_test(test_choose_by_index_and_name),
 		cmocka_unit_test(test_build_failure_prints_log),
 		cmocka_unit_test(test_embedded_program_builds_and_errors_are_named),
+		cmocka_unit_test(test_buffers_stay_on_the_device),
+		cmocka_unit_test(test_lanes_forced),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);
 	tk_teardown_contexts(NULL);

@@ -20,6 +20,7 @@ dp_status dp_context_create(dp_context **out, dp_backend_kind kind, const char *
 			free(ctx);
 			return st;
 		}
+		ctx->cl.pair_counter = &ctx->pair_evaluations;
 	}
 	*out = ctx;
 	return DP_OK;

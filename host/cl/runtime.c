@@ -68,13 +68,62 @@ cleanup:
 	return st;
 }
 
+/* DP_LANES for the device: $DP_CL_LANES when set, else by its type. */
+static dp_status choose_lanes(const char *spec, int *lanes, dp_error *err)
+{
+	const char *env = getenv("DP_CL_LANES");
+	if (env && *env) {
+		if (strcmp(env, "1") && strcmp(env, "4") && strcmp(env, "8") && strcmp(env, "16"))
+			return dp_fail(err, DP_ERR_ARG, "DP_CL_LANES must be 1, 4, 8 or 16, not '%s'", env);
+		*lanes = atoi(env);
+		return DP_OK;
+	}
+	dp_cl_device dev;
+	dp_status st = dp_cl_choose(spec, &dev, err);
+	if (st != DP_OK)
+		return st;
+	cl_device_type type = 0;
+	if (clGetDeviceInfo(dev.device, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
+		type = CL_DEVICE_TYPE_GPU;
+	*lanes = (type & CL_DEVICE_TYPE_CPU) ? DP_CL_LANES_CPU : DP_CL_LANES_GPU;
+	return DP_OK;
+}
+
 dp_status dp_cl_open(dp_cl *cl, const char *spec, dp_error *err)
 {
-	return dp_cl_open_source(cl, spec, dp_kernel_source, DP_CL_BUILD_OPTIONS, err);
+	int lanes = 0;
+	dp_status st = choose_lanes(spec, &lanes, err);
+	if (st != DP_OK)
+		return st;
+	char options[256];
+	snprintf(options, sizeof options, "%s -DDP_LANES=%d", DP_CL_BUILD_OPTIONS, lanes);
+	st = dp_cl_open_source(cl, spec, dp_kernel_source, options, err);
+	if (st == DP_OK)
+		cl->lanes = lanes;
+	return st;
+}
+
+static void cache_release(dp_cl *cl, dp_cl_cached *c)
+{
+	if (c->mem)
+		clReleaseMemObject(c->mem);
+	free(c->shadow);
+	cl->cache_bytes -= c->bytes;
+	memset(c, 0, sizeof *c);
+}
+
+void dp_cl_cache_clear(dp_cl *cl)
+{
+	if (cl->queue)
+		clFinish(cl->queue);
+	for (size_t i = 0; i < DP_CL_CACHE_SLOTS; i++)
+		if (cl->cache[i].mem)
+			cache_release(cl, &cl->cache[i]);
 }
 
 void dp_cl_close(dp_cl *cl)
 {
+	dp_cl_cache_clear(cl);
 	for (size_t i = 0; i < cl->nkernels; i++)
 		clReleaseKernel(cl->kernels[i].kernel);
 	if (cl->program)
@@ -109,11 +158,79 @@ dp_status dp_cl_kernel(dp_cl *cl, const char *name, cl_kernel *kernel, dp_error 
 #define MIN_BUFFER_BYTES 16
 #define MAX_LAUNCH_ARGS 48
 
+static dp_cl_kernel_stats *kernel_stats(dp_cl *cl, const char *name)
+{
+	for (size_t i = 0; i < cl->nkernels; i++)
+		if (strcmp(cl->kernels[i].name, name) == 0)
+			return &cl->kernels[i].stats;
+	return NULL;
+}
+
+/* The cached buffer of (host, bytes), created (evicting the least recently
+ * used buffer that this launch does not use) when there is none; *fresh says
+ * the device holds nothing of it yet. */
+static dp_status cache_get(dp_cl *cl, const void *host, size_t bytes, dp_cl_cached **out, int *fresh,
+			   dp_error *err)
+{
+	dp_cl_cached *slot = NULL, *lru = NULL;
+	for (size_t i = 0; i < DP_CL_CACHE_SLOTS; i++) {
+		dp_cl_cached *c = &cl->cache[i];
+		if (c->mem && c->host == host && c->bytes == bytes) {
+			c->used = cl->launches;
+			*out = c;
+			*fresh = 0;
+			return DP_OK;
+		}
+		if (!c->mem && !slot)
+			slot = c;
+		if (c->mem && c->used != cl->launches && (!lru || c->used < lru->used))
+			lru = c;
+	}
+	/* Free room for this buffer: unused slots go first, least recent first. */
+	while (lru && (!slot || cl->cache_bytes + bytes > DP_CL_CACHE_BYTES)) {
+		cache_release(cl, lru);
+		if (!slot)
+			slot = lru;
+		lru = NULL;
+		for (size_t i = 0; i < DP_CL_CACHE_SLOTS; i++) {
+			dp_cl_cached *c = &cl->cache[i];
+			if (c->mem && c->used != cl->launches && (!lru || c->used < lru->used))
+				lru = c;
+		}
+	}
+	if (!slot)
+		return dp_fail(err, DP_ERR_INTERNAL, "OpenCL: more than %d buffers in one launch", DP_CL_CACHE_SLOTS);
+	cl_int rc;
+	slot->mem = clCreateBuffer(cl->context, CL_MEM_READ_WRITE, bytes < MIN_BUFFER_BYTES ? MIN_BUFFER_BYTES : bytes,
+				   NULL, &rc);
+	if (rc != CL_SUCCESS) {
+		slot->mem = NULL;
+		return dp_fail(err, rc == CL_OUT_OF_HOST_MEMORY || rc == CL_MEM_OBJECT_ALLOCATION_FAILURE ||
+					    rc == CL_OUT_OF_RESOURCES
+				    ? DP_ERR_NOMEM
+				    : DP_ERR_CL,
+			       "OpenCL: clCreateBuffer failed: %s", dp_cl_error_name(rc));
+	}
+	slot->shadow = malloc(bytes ? bytes : 1);
+	if (!slot->shadow) {
+		clReleaseMemObject(slot->mem);
+		slot->mem = NULL;
+		return dp_fail(err, DP_ERR_NOMEM, "OpenCL: out of memory for a buffer's host copy");
+	}
+	slot->host = host;
+	slot->bytes = bytes;
+	slot->used = cl->launches;
+	cl->cache_bytes += bytes;
+	*out = slot;
+	*fresh = 1;
+	return DP_OK;
+}
+
 dp_status dp_cl_launch(dp_cl *cl, const char *name, size_t n, const dp_cl_arg *args, size_t nargs,
 		       dp_error *err)
 {
 	dp_status st = DP_OK;
-	cl_mem mems[MAX_LAUNCH_ARGS] = {0};
+	dp_cl_cached *slots[MAX_LAUNCH_ARGS] = {0};
 	cl_kernel kernel;
 	if (n == 0)
 		return DP_OK;
@@ -122,6 +239,10 @@ dp_status dp_cl_launch(dp_cl *cl, const char *name, size_t n, const dp_cl_arg *a
 	st = dp_cl_kernel(cl, name, &kernel, err);
 	if (st != DP_OK)
 		return st;
+	double t0 = dp_seconds();
+	dp_cl_kernel_stats *ks = kernel_stats(cl, name);
+	double h2d = 0.0, d2h = 0.0, skipped = 0.0;
+	cl->launches++;
 	cl_uint count = (cl_uint)n;
 	CHECK(clSetKernelArg(kernel, 0, sizeof count, &count), "clSetKernelArg");
 	for (size_t a = 0; a < nargs; a++) {
@@ -130,42 +251,75 @@ dp_status dp_cl_launch(dp_cl *cl, const char *name, size_t n, const dp_cl_arg *a
 			CHECK(clSetKernelArg(kernel, (cl_uint)(a + 1), arg->bytes, arg->ptr), "clSetKernelArg");
 			continue;
 		}
-		cl_int rc;
-		size_t bytes = arg->bytes < MIN_BUFFER_BYTES ? MIN_BUFFER_BYTES : arg->bytes;
-		if (arg->kind == DP_CL_ARG_IN) {
-			mems[a] = clCreateBuffer(cl->context, CL_MEM_READ_ONLY, bytes, NULL, &rc);
-			CHECK(rc, "clCreateBuffer (input)");
-			if (arg->bytes)
-				CHECK(clEnqueueWriteBuffer(cl->queue, mems[a], CL_FALSE, 0, arg->bytes, arg->ptr, 0,
-							   NULL, NULL),
+		int fresh = 0;
+		if ((st = cache_get(cl, arg->ptr, arg->bytes, &slots[a], &fresh, err)) != DP_OK)
+			goto cleanup;
+		/* An output must not share its buffer with another argument of
+		 * the launch (the kernel would read what it writes). */
+		for (size_t b = 0; b < a; b++)
+			if (arg->bytes && slots[b] == slots[a] && (arg->kind == DP_CL_ARG_OUT || args[b].kind == DP_CL_ARG_OUT)) {
+				st = dp_fail(err, DP_ERR_INTERNAL, "OpenCL: an output of %s is also another argument",
+					     name);
+				goto cleanup;
+			}
+		if (arg->kind == DP_CL_ARG_IN && arg->bytes) {
+			if (fresh || memcmp(slots[a]->shadow, arg->ptr, arg->bytes) != 0) {
+				/* From the host copy, which stays put until the
+				 * queue has run it (the caller's array need not). */
+				memcpy(slots[a]->shadow, arg->ptr, arg->bytes);
+				CHECK(clEnqueueWriteBuffer(cl->queue, slots[a]->mem, CL_FALSE, 0, arg->bytes,
+							   slots[a]->shadow, 0, NULL, NULL),
 				      "clEnqueueWriteBuffer");
-		} else {
-			mems[a] = clCreateBuffer(cl->context, CL_MEM_WRITE_ONLY, bytes, NULL, &rc);
-			CHECK(rc, "clCreateBuffer (output)");
+				h2d += (double)arg->bytes;
+			} else {
+				skipped += (double)arg->bytes;
+			}
 		}
-		CHECK(clSetKernelArg(kernel, (cl_uint)(a + 1), sizeof(cl_mem), &mems[a]), "clSetKernelArg");
+		CHECK(clSetKernelArg(kernel, (cl_uint)(a + 1), sizeof(cl_mem), &slots[a]->mem), "clSetKernelArg");
 	}
 	size_t local = DP_CL_LOCAL_SIZE;
 	size_t global = (n + local - 1) / local * local;
 	CHECK(clEnqueueNDRangeKernel(cl->queue, kernel, 1, NULL, &global, &local, 0, NULL, NULL),
 	      "clEnqueueNDRangeKernel");
+	/* Read into the host copies; the in-order queue runs the reads after
+	 * the kernel, and one blocking wait covers them all. */
+	for (size_t a = 0; a < nargs; a++)
+		if (args[a].kind == DP_CL_ARG_OUT && args[a].bytes) {
+			CHECK(clEnqueueReadBuffer(cl->queue, slots[a]->mem, CL_FALSE, 0, args[a].bytes,
+						  slots[a]->shadow, 0, NULL, NULL),
+			      "clEnqueueReadBuffer");
+			d2h += (double)args[a].bytes;
+		}
+	CHECK(clFinish(cl->queue), "clFinish (kernel execution)");
 	for (size_t a = 0; a < nargs; a++)
 		if (args[a].kind == DP_CL_ARG_OUT && args[a].bytes)
-			CHECK(clEnqueueReadBuffer(cl->queue, mems[a], CL_FALSE, 0, args[a].bytes, (void *)args[a].ptr,
-						  0, NULL, NULL),
-			      "clEnqueueReadBuffer");
-	CHECK(clFinish(cl->queue), "clFinish (kernel execution)");
+			memcpy((void *)args[a].ptr, slots[a]->shadow, args[a].bytes);
 cleanup:
 	if (st != DP_OK) {
-		/* commands already queued may still use the buffers released below */
+		/* Commands already queued may still use the buffers; what the
+		 * device holds of this launch's arrays is unknown now. */
 		clFinish(cl->queue);
+		for (size_t a = 0; a < nargs; a++)
+			if (slots[a] && slots[a]->mem)
+				cache_release(cl, slots[a]);
 		if (err)
 			snprintf(err->message + strlen(err->message), sizeof err->message - strlen(err->message),
 				 " (kernel %s, %zu items)", name, n);
 	}
-	for (size_t a = 0; a < nargs; a++)
-		if (mems[a])
-			clReleaseMemObject(mems[a]);
+	cl->h2d_bytes += h2d;
+	cl->d2h_bytes += d2h;
+	cl->h2d_skipped_bytes += skipped;
+	if (ks) {
+		ks->launches += 1.0;
+		ks->seconds += dp_seconds() - t0;
+		ks->h2d_bytes += h2d;
+		ks->d2h_bytes += d2h;
+		ks->h2d_skipped_bytes += skipped;
+		if (cl->pair_counter) {
+			ks->pairs += *cl->pair_counter - cl->pairs_seen;
+			cl->pairs_seen = *cl->pair_counter;
+		}
+	}
 	return st;
 }
 

@@ -17,6 +17,37 @@
  * assume no NaN/Inf (DESIGN §3). */
 #define DP_CL_BUILD_OPTIONS "-cl-std=CL1.2 -cl-unsafe-math-optimizations"
 #define DP_CL_MAX_KERNELS 64
+/* Device buffers kept across launches (dp_cl_launch): at most this many, and
+ * beyond this many bytes the least recently used ones not needed by the launch
+ * at hand are released. */
+#define DP_CL_CACHE_SLOTS 64
+#define DP_CL_CACHE_BYTES ((size_t)1 << 30)
+/* Candidates per work-item step: the kernels' DP_LANES (kernels/grid.cl).
+ * PoCL vectorises explicit lanes; a GPU runs one candidate per work-item
+ * step (its work-items are its lanes). $DP_CL_LANES overrides the choice by
+ * CL_DEVICE_TYPE, so that both forms can be tested on one device. */
+#define DP_CL_LANES_CPU 16
+#define DP_CL_LANES_GPU 1
+
+/* One kernel's launches, for benchmarks: wall seconds of dp_cl_launch (upload,
+ * run, read-back), bytes moved each way, bytes not uploaded because the device
+ * already held them, and the neighbour pairs its dispatcher counted. */
+typedef struct dp_cl_kernel_stats {
+	double launches, seconds, h2d_bytes, d2h_bytes, h2d_skipped_bytes, pairs;
+} dp_cl_kernel_stats;
+
+/* A device buffer that mirrors the host array [host, host + bytes): `shadow`
+ * holds what the device holds, so a launch uploads the array only when its
+ * contents differ (compared byte for byte: no caller has to say when its data
+ * changed, and a freed array whose address is reused cannot be mistaken for
+ * the old one). */
+typedef struct dp_cl_cached {
+	const void *host;
+	size_t bytes;
+	cl_mem mem;
+	void *shadow;
+	unsigned long long used; /* launch counter at the last use */
+} dp_cl_cached;
 
 typedef struct dp_cl {
 	cl_platform_id platform;
@@ -25,11 +56,21 @@ typedef struct dp_cl {
 	cl_command_queue queue;
 	cl_program program;
 	char name[512];
+	int lanes;                /* DP_LANES the program was built with */
 	size_t nkernels;
 	struct {
 		char name[64];
 		cl_kernel kernel;
+		dp_cl_kernel_stats stats;
 	} kernels[DP_CL_MAX_KERNELS];
+	dp_cl_cached cache[DP_CL_CACHE_SLOTS];
+	size_t cache_bytes;
+	unsigned long long launches;
+	/* Totals over every launch; pairs are read from *pair_counter (the
+	 * context's count, which each dispatcher raises just before its launch). */
+	double h2d_bytes, d2h_bytes, h2d_skipped_bytes;
+	const double *pair_counter;
+	double pairs_seen;
 } dp_cl;
 
 /* Kernel sources (every file of kernels/), embedded at build time. */
@@ -39,13 +80,16 @@ extern const char dp_kernel_source[];
 const char *dp_cl_error_name(cl_int code);
 
 /* Opens the device chosen by `spec` (see dp_context_create) and builds the
- * program; prints nothing, the build log goes into err on failure. */
+ * program with DP_LANES by device type or $DP_CL_LANES (1, 4, 8 or 16);
+ * prints nothing, the build log goes into err on failure. */
 dp_status dp_cl_open(dp_cl *cl, const char *spec, dp_error *err);
 /* Same, with a caller-chosen program source and options (tests use it to
  * check build failures). */
 dp_status dp_cl_open_source(dp_cl *cl, const char *spec, const char *source, const char *options,
 			    dp_error *err);
 void dp_cl_close(dp_cl *cl);
+/* Releases every cached device buffer (the next launches upload again). */
+void dp_cl_cache_clear(dp_cl *cl);
 
 /* The kernel of that name, created once and cached. */
 dp_status dp_cl_kernel(dp_cl *cl, const char *name, cl_kernel *kernel, dp_error *err);
@@ -68,7 +112,11 @@ typedef struct dp_cl_arg {
 
 /* Runs kernel `name` over n work-items (global size padded to
  * DP_CL_LOCAL_SIZE). Argument 0 is the cl_uint n; args follow from 1. Output
- * buffers are read back before returning. n == 0 does nothing. */
+ * buffers are read back before returning. n == 0 does nothing. Every array
+ * argument lives in a device buffer cached by (pointer, bytes): an input is
+ * uploaded only when it differs from what that buffer holds, and an output read
+ * back leaves the buffer equal to the host array, so a later launch taking it as
+ * input uploads nothing. */
 dp_status dp_cl_launch(dp_cl *cl, const char *name, size_t n, const dp_cl_arg *args, size_t nargs,
 		       dp_error *err);
 
