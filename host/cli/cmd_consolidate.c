@@ -95,7 +95,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	int any_side = 0, old_orient = 0;
 	const char *samples = NULL;
 	const char *list_file = NULL, *shard_text = NULL;
-	int skip_done = 0;
+	int skip_done = 0, up_given = 0;
 	job.up_axis = 1;
 	job.staged = 1;
 	double sigma_p = job.params.sink.sigma_p;
@@ -194,7 +194,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--save-stages", CLI_FLAG, &job.save_stages, "also write wlop.ply and anchors.ply", NULL, NULL},
 		{"--render", CLI_FLAG, &job.render, "also render input, skeleton, surface and deep points to PNGs",
 		 NULL, NULL},
-		{"--up", CLI_CHOICE, &job.up_axis, "vertical axis of the renders", "x|y|z", NULL},
+		{"--up", CLI_CHOICE, &job.up_axis,
+		 "vertical axis of the renders (default: z where the input is clearly taller in z than in y, else y)",
+		 "x|y|z", &up_given},
 		{"--ascii", CLI_FLAG, &job.ascii, "write ascii PLY", NULL, NULL},
 		{"--quiet", CLI_FLAG, &quiet, "no progress on stderr", NULL, NULL},
 		CLI_INPUT_OPTS(job.format, job.columns),
@@ -225,6 +227,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 			cmd, samples, cmd);
 		return DP_EXIT_INPUT;
 	}
+	if (!up_given)
+		job.up_axis = -1; /* from each input's data */
 	p->sink.sigma_p = p->surface.sigma_p = sigma_p;
 	p->surface.prior = (dp_surface_prior)prior;
 	p->surface.reattach = !no_reattach;
@@ -246,8 +250,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 	if (!rc)
 		rc = dp_cli_device_list(cmd, device, &devices);
 	if (!rc && (all.n == 0 || !outdir)) {
-		fprintf(stderr, "dpoints %s: needs INPUT (or --inputs LIST) and -o OUTDIR (see dpoints %s --help)\n", cmd,
-			cmd);
+		fprintf(stderr, "dpoints %s: needs INPUT and -o OUTDIR (inputs on the command line or in --inputs LIST; "
+				"see dpoints %s --help)\n",
+			cmd, cmd);
 		rc = DP_EXIT_INPUT;
 	}
 	if (rc) {

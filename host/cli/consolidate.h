@@ -8,7 +8,7 @@ typedef struct dp_consolidate_job {
 	dp_params params;
 	double samples_factor; /* --samples Fx: F times each input's point count (0: not given) */
 	int save_stages, render, ascii;
-	int up_axis; /* vertical axis of the renders: 0 x, 1 y, 2 z */
+	int up_axis; /* vertical axis of the renders: 0 x, 1 y, 2 z; -1: from each input */
 	/* write into a staging sibling of the folder and swap it in (consolidate);
 	 * 0 writes into the folder itself, beside files of the caller (demo) */
 	int staged;

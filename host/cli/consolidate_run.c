@@ -1,4 +1,5 @@
 /* One consolidate run: the pipeline, then its folder through dp_result_write. */
+#include "cli/caption.h"
 #include "cli/consolidate.h"
 #include "cli/input.h"
 #include "core/common.h"
@@ -60,7 +61,7 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 	dp_write_options_default(&wo);
 	wo.flags = (job->ascii ? DP_WRITE_ASCII : 0u) | (job->save_stages ? DP_WRITE_STAGES : 0u) |
 		   (job->render ? DP_WRITE_RENDER : 0u);
-	wo.up_axis = job->up_axis;
+	wo.up_axis = job->up_axis >= 0 ? job->up_axis : dp_cli_detect_up(in, 1);
 	wo.input = in;
 	wo.input_name = label;
 	wo.output_name = dir; /* not the staging folder it is written into */
