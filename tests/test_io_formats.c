@@ -228,6 +228,28 @@ static void test_xyz_columns(void **state)
 	read_text_fail("count.xyz", "1 2 3 4\n", "x,y,z", "--columns names 3");
 }
 
+/* Past the rows the columns are judged on, rows stream in; a later row that
+ * contradicts the judgement is refused rather than read as garbage. */
+static void test_xyz_long(void **state)
+{
+	(void)state;
+	size_t rows = 70000, len = 0;
+	char *text = malloc(rows * 32 + 64);
+	assert_non_null(text);
+	for (size_t i = 0; i < rows; i++)
+		len += (size_t)sprintf(text + len, "%zu 0 1 %zu 7 200\n", i, i % 256);
+	dp_cloud c = {0};
+	read_text("long.xyz", text, NULL, &c);
+	assert_int_equal(c.n, rows);
+	assert_null(c.nx);
+	expect_rgb(&c, rows - 1, (int)((rows - 1) % 256), 7, 200);
+	assert_float_equal(c.x[rows - 1], (float)(rows - 1), 0.0f);
+	dp_cloud_free(&c);
+	len += (size_t)sprintf(text + len, "1 2 3 -0.5 0.25 0.5\n");
+	read_text_fail("later.xyz", text, NULL, "--columns");
+	free(text);
+}
+
 static void test_pts(void **state)
 {
 	(void)state;
@@ -368,7 +390,8 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_gzip_every_format), cmocka_unit_test(test_gzip_errors),
-		cmocka_unit_test(test_xyz_columns),	  cmocka_unit_test(test_pts),
+		cmocka_unit_test(test_xyz_columns),	  cmocka_unit_test(test_xyz_long),
+		cmocka_unit_test(test_pts),
 		cmocka_unit_test(test_ply_pcd_colours),	  cmocka_unit_test(test_write_and_carry),
 		cmocka_unit_test(test_format_override),
 	};

@@ -125,122 +125,163 @@ static dp_status detect(const char *path, const float *rows, size_t n, int width
 	return DP_OK;
 }
 
+/* Rows held back until the columns are decided: enough to judge them, few
+ * enough that a file of a billion points is not held twice. */
+#define XYZ_DETECT_ROWS 65536
+
+typedef struct xyz_reader {
+	dp_io_stream *s;
+	dp_io_builder *b;
+	column map[XYZ_MAX_COLUMNS];
+	int named, width, decided;
+	int at[COL_I + 1];  /* column of each role, or -1 */
+	float scale;        /* 255 for colours given in [0, 1] */
+	float *rows;        /* the first rows, until decided */
+	size_t n, cap;
+} xyz_reader;
+
+static dp_status add_row(xyz_reader *x, const float *v, int streamed, dp_error *err)
+{
+	const int *at = x->at;
+	float normal[3] = {0, 0, 0};
+	if (at[COL_NX] >= 0) {
+		normal[0] = v[at[COL_NX]];
+		normal[1] = v[at[COL_NY]];
+		normal[2] = v[at[COL_NZ]];
+	}
+	dp_status st = dp_io_builder_add(x->b, v[at[COL_X]], v[at[COL_Y]], v[at[COL_Z]], normal, err);
+	if (st != DP_OK || at[COL_R] < 0)
+		return st;
+	unsigned char rgb[3];
+	for (int c = 0; c < 3; c++) {
+		float value = v[at[COL_R + c]];
+		/* detected colours must stay colours: a later row that is not one
+		 * means the first rows misled the guess */
+		if (streamed && !x->named && !(value >= 0.0f && value * x->scale <= 255.0f))
+			return dp_fail(err, DP_ERR_FORMAT,
+				       "%s: line %zu: columns %d-%d held colours in the first %d rows but not here; name "
+				       "them with --columns",
+				       x->s->path, x->s->line, at[COL_R] + 1, at[COL_R] + 3, XYZ_DETECT_ROWS);
+		value *= x->scale;
+		rgb[c] = (unsigned char)(value > 255.0f ? 255.0f : value > 0.0f ? value + 0.5f : 0.0f);
+	}
+	dp_io_builder_set_rgb(x->b, x->b->c.n - 1, rgb);
+	return DP_OK;
+}
+
+/* Decides the columns from the rows held back, then adds them. */
+static dp_status decide(xyz_reader *x, dp_error *err)
+{
+	dp_status st;
+	if (!x->named && (st = detect(x->s->path, x->rows, x->n, x->width, x->map, err)) != DP_OK)
+		return st;
+	for (int c = 0; c <= COL_I; c++)
+		x->at[c] = -1;
+	for (int c = 0; c < x->width; c++)
+		x->at[x->map[c]] = c;
+	x->scale = 1.0f;
+	if (x->at[COL_R] >= 0) {
+		/* colours in [0, 1] (every value of the columns) are scaled to bytes */
+		x->scale = 255.0f;
+		for (size_t i = 0; i < x->n && x->scale > 1.0f; i++)
+			for (int c = COL_R; c <= COL_B; c++)
+				if (x->rows[i * (size_t)x->width + x->at[c]] > 1.0f)
+					x->scale = 1.0f;
+		if ((st = dp_io_builder_want_colours(x->b, err)) != DP_OK)
+			return st;
+	}
+	if (x->at[COL_NX] >= 0 && (st = dp_io_builder_want_normals(x->b, err)) != DP_OK)
+		return st;
+	if ((st = dp_io_builder_reserve(x->b, x->n, err)) != DP_OK)
+		return st;
+	for (size_t i = 0; i < x->n; i++)
+		if ((st = add_row(x, x->rows + i * (size_t)x->width, 0, err)) != DP_OK)
+			return st;
+	free(x->rows);
+	x->rows = NULL;
+	x->decided = 1;
+	return DP_OK;
+}
+
+static dp_status hold_row(xyz_reader *x, const float *v, dp_error *err)
+{
+	if (x->n == x->cap) {
+		size_t grown = x->cap ? 2 * x->cap : 1024;
+		float *more = realloc(x->rows, grown * (size_t)x->width * sizeof *more);
+		if (!more)
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory reading %zu points", x->s->path, grown);
+		x->rows = more;
+		x->cap = grown;
+	}
+	memcpy(x->rows + x->n * (size_t)x->width, v, (size_t)x->width * sizeof *v);
+	x->n++;
+	return x->n == XYZ_DETECT_ROWS ? decide(x, err) : DP_OK;
+}
+
 /* Whitespace-separated columns, one point a line; `#` starts a comment. Every
  * line must have the column count of the first. A line holding one whole
  * number is a point count (Leica PTS files start with one, and concatenated
  * scans have one each) and is skipped. */
 dp_status dp_io_read_xyz(dp_io_stream *s, dp_io_builder *b, int flags, dp_error *err)
 {
-	column map[XYZ_MAX_COLUMNS];
-	int named = 0, width = 0;
+	xyz_reader x;
+	memset(&x, 0, sizeof x);
+	x.s = s;
+	x.b = b;
 	(void)flags;
 	dp_status st = DP_OK;
-	if (s->columns && (st = parse_columns(s->path, s->columns, map, &named, err)) != DP_OK)
+	if (s->columns && (st = parse_columns(s->path, s->columns, x.map, &x.named, err)) != DP_OK)
 		return st;
-	float *rows = NULL;
-	size_t n = 0, cap = 0;
 	for (;;) {
 		char *line, *cur;
 		float v[XYZ_MAX_COLUMNS];
 		int k = 0, r = 0;
 		if ((st = dp_io_line(s, &line, err)) != DP_OK)
-			goto done;
-		if (!line)
 			break;
+		if (!line) {
+			if (!x.decided && x.n > 0)
+				st = decide(&x, err);
+			break;
+		}
 		dp_io_strip_comment(line, '#');
 		cur = line;
 		while (k < XYZ_MAX_COLUMNS && (r = dp_io_scan_float(&cur, &v[k])) == 1)
 			k++;
 		if (r < 0) {
 			st = dp_fail(err, DP_ERR_FORMAT, "%s: line %zu: column %d is not a number", s->path, s->line, k + 1);
-			goto done;
+			break;
 		}
 		if (k == 0)
 			continue;
 		int extra = dp_io_scan_skip(&cur);
 		if (k == 1 && !extra && v[0] >= 0.0f && v[0] == floorf(v[0]))
 			continue;
-		if (width == 0) {
+		if (x.width == 0) {
 			if (extra) {
 				st = dp_fail(err, DP_ERR_FORMAT, "%s: line %zu: more than %d columns", s->path, s->line,
 					     XYZ_MAX_COLUMNS);
-				goto done;
+				break;
 			}
-			if (named && k != named) {
+			if (x.named && k != x.named) {
 				st = dp_fail(err, DP_ERR_FORMAT, "%s: line %zu: %d columns but --columns names %d", s->path,
-					     s->line, k, named);
-				goto done;
+					     s->line, k, x.named);
+				break;
 			}
 			if (k < 3) {
 				st = dp_fail(err, DP_ERR_FORMAT,
 					     "%s: line %zu: expected at least 3 columns (x y z [nx ny nz] [r g b]), found %d",
 					     s->path, s->line, k);
-				goto done;
+				break;
 			}
-			width = k;
-		} else if (extra || k != width) {
+			x.width = k;
+		} else if (extra || k != x.width) {
 			st = dp_fail(err, DP_ERR_FORMAT, "%s: line %zu: %s%d columns where the first point has %d",
-				     s->path, s->line, extra ? "more than " : "", k, width);
-			goto done;
+				     s->path, s->line, extra ? "more than " : "", k, x.width);
+			break;
 		}
-		if (n == cap) {
-			size_t grown = cap ? 2 * cap : 4096;
-			float *more = grown < SIZE_MAX / sizeof(float) / (size_t)width
-					      ? realloc(rows, grown * (size_t)width * sizeof *rows)
-					      : NULL;
-			if (!more) {
-				st = dp_fail(err, DP_ERR_NOMEM, "%s: out of memory reading %zu points", s->path, grown);
-				goto done;
-			}
-			rows = more;
-			cap = grown;
-		}
-		memcpy(rows + n * (size_t)width, v, (size_t)width * sizeof *v);
-		n++;
+		if ((st = x.decided ? add_row(&x, v, 1, err) : hold_row(&x, v, err)) != DP_OK)
+			break;
 	}
-	if (n == 0)
-		goto done;
-	if (!named && (st = detect(s->path, rows, n, width, map, err)) != DP_OK)
-		goto done;
-	int at[COL_I + 1];
-	for (int c = 0; c <= COL_I; c++)
-		at[c] = -1;
-	for (int c = 0; c < width; c++)
-		at[map[c]] = c;
-	/* colours in [0, 1] (every value of the columns) are scaled to bytes */
-	float scale = 1.0f;
-	if (at[COL_R] >= 0) {
-		scale = 255.0f;
-		for (size_t i = 0; i < n && scale > 1.0f; i++)
-			for (int c = COL_R; c <= COL_B; c++)
-				if (rows[i * (size_t)width + at[c]] > 1.0f)
-					scale = 1.0f;
-		if ((st = dp_io_builder_want_colours(b, err)) != DP_OK)
-			goto done;
-	}
-	if (at[COL_NX] >= 0 && (st = dp_io_builder_want_normals(b, err)) != DP_OK)
-		goto done;
-	if ((st = dp_io_builder_reserve(b, n, err)) != DP_OK)
-		goto done;
-	for (size_t i = 0; i < n && st == DP_OK; i++) {
-		const float *v = rows + i * (size_t)width;
-		float normal[3] = {0, 0, 0};
-		if (at[COL_NX] >= 0) {
-			normal[0] = v[at[COL_NX]];
-			normal[1] = v[at[COL_NY]];
-			normal[2] = v[at[COL_NZ]];
-		}
-		st = dp_io_builder_add(b, v[at[COL_X]], v[at[COL_Y]], v[at[COL_Z]], normal, err);
-		if (st == DP_OK && at[COL_R] >= 0) {
-			unsigned char rgb[3];
-			for (int c = 0; c < 3; c++) {
-				float x = v[at[COL_R + c]] * scale;
-				rgb[c] = (unsigned char)(x > 255.0f ? 255.0f : x > 0.0f ? x + 0.5f : 0.0f);
-			}
-			dp_io_builder_set_rgb(b, i, rgb);
-		}
-	}
-done:
-	free(rows);
+	free(x.rows);
 	return st;
 }
