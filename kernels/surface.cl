@@ -1,6 +1,25 @@
 /* Surface consolidation operators (DESIGN 4.3); the specification is
  * host/ref/surface_ref.c, the meanings are in host/backend/surface_ops.h. */
 
+/* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl); a
+ * pair outside the sums is masked by select, never by a branch, so the lanes
+ * stay in step and the 1/d of a skipped pair never reaches a sum. */
+
+#define SURFACE_DATA_IN(live) ((live) & (d2 < rad2) & (dx * six + dy * siy + dz * siz + depth > 0.0f))
+#define SURFACE_DATA_BODY(T, LOAD, k, live, s)                                                 \
+	{                                                                                      \
+		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
+		T d2 = dx * dx + dy * dy + dz * dz;                                            \
+		T theta = select((T)0.0f, exp(-d2 * inv_r * inv_r), SURFACE_DATA_IN(live));    \
+		eta##s += theta;                                                               \
+		T alpha = select((T)0.0f, theta / (sqrt(d2) * inv_r),                          \
+				 SURFACE_DATA_IN(live) & (d2 >= min_d2));                       \
+		sa##s += alpha;                                                                \
+		sx##s += alpha * dx;                                                           \
+		sy##s += alpha * dy;                                                           \
+		sz##s += alpha * dz;                                                           \
+	}
+
 __kernel void surface_data(const uint n, __global const float *qx, __global const float *qy,
 			   __global const float *qz, __global const float *qsx, __global const float *qsy,
 			   __global const float *qsz, __global const float *qdepth, GRID_ARGS, const float radius,
@@ -13,28 +32,47 @@ __kernel void surface_data(const uint n, __global const float *qx, __global cons
 	float px = qx[i], py = qy[i], pz = qz[i];
 	float six = qsx[i], siy = qsy[i], siz = qsz[i], depth = qdepth[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
-	float eta = 1.0f, sa = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-	GRID_FOR(px, py, pz, k)
-		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
-		float d2 = dx * dx + dy * dy + dz * dz;
-		if (d2 < rad2 && dx * six + dy * siy + dz * siz + depth > 0.0f) {
-			float theta = exp(-d2 * inv_r * inv_r);
-			eta += theta;
-			if (d2 >= min_d2) {
-				float alpha = theta / (sqrt(d2) * inv_r);
-				sa += alpha;
-				sx += alpha * dx;
-				sy += alpha * dy;
-				sz += alpha * dz;
-			}
-		}
-	GRID_FOR_END
+	LANE_T eta_v = 0.0f, sa_v = 0.0f, sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f;
+	float eta_s = 0.0f, sa_s = 0.0f, sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f;
+	GRID_PAIRS(px, py, pz, SURFACE_DATA_BODY)
+	float eta = 1.0f + LANE_SUM(eta_v) + eta_s, sa = LANE_SUM(sa_v) + sa_s;
+	float sx = LANE_SUM(sx_v) + sx_s, sy = LANE_SUM(sy_v) + sy_s, sz = LANE_SUM(sz_v) + sz_s;
 	eta_out[i] = eta;
 	sum_alpha_out[i] = sa;
 	ox[i] = sa > 0.0f ? sx / sa : 0.0f;
 	oy[i] = sa > 0.0f ? sy / sa : 0.0f;
 	oz[i] = sa > 0.0f ? sz / sa : 0.0f;
 }
+
+#define SURFACE_NB_IN(live, LOAD)                                                                    \
+	((live) & (d2 < rad2) & (nx * LOAD(gnx, k) + ny * LOAD(gny, k) + nz * LOAD(gnz, k) > side_cos))
+#define SURFACE_NB_BODY(T, LOAD, k, live, s)                                                   \
+	{                                                                                      \
+		T dx = px - LOAD(gx, k), dy = py - LOAD(gy, k), dz = pz - LOAD(gz, k);        \
+		T d2 = dx * dx + dy * dy + dz * dz;                                            \
+		T one = select((T)0.0f, (T)1.0f, SURFACE_NB_IN(live, LOAD));                         \
+		T theta = one * exp(-d2 * inv_r * inv_r);                                      \
+		T dl = LOAD(glen, k) - len;                                                    \
+		T dlr = one * (dl * inv_r);                                                    \
+		cx##s -= theta * dx;                                                           \
+		cy##s -= theta * dy;                                                           \
+		cz##s -= theta * dz;                                                           \
+		count##s += one;                                                               \
+		sd##s += dlr;                                                                  \
+		sd2##s += dlr * dlr;                                                           \
+		st##s += theta;                                                                \
+		stl##s += theta * dl;                                                          \
+		nn2##s = select(nn2##s, fmin(nn2##s, d2), SURFACE_NB_IN(live, LOAD) & (d2 >= min_d2)); \
+		T dn = dx * nx + dy * ny + dz * nz;                                            \
+		T tx = dx - dn * nx, ty = dy - dn * ny, tz = dz - dn * nz;                     \
+		T t = fmax(sqrt(tx * tx + ty * ty + tz * tz) * inv_r, tfloor);                 \
+		T beta = select((T)0.0f, theta / (t * t * t * t * t),                          \
+				SURFACE_NB_IN(live, LOAD) & (d2 >= min_d2));                          \
+		sb##s += beta;                                                                 \
+		bx##s += beta * tx;                                                            \
+		by##s += beta * ty;                                                            \
+		bz##s += beta * tz;                                                            \
+	}
 
 __kernel void surface_neighbour(const uint n, __global const float *qx, __global const float *qy,
 				__global const float *qz, __global const float *qnx, __global const float *qny,
@@ -51,36 +89,18 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 	float px = qx[i], py = qy[i], pz = qz[i];
 	float nx = qnx[i], ny = qny[i], nz = qnz[i], len = qlen[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
-	float count = 0.0f, sd = 0.0f, sd2 = 0.0f, st = 0.0f, stl = 0.0f;
-	float sb = 0.0f, bx = 0.0f, by = 0.0f, bz = 0.0f, nn2 = rad2;
-	float cx = 0.0f, cy = 0.0f, cz = 0.0f;
-	GRID_FOR(px, py, pz, k)
-		float dx = px - gx[k], dy = py - gy[k], dz = pz - gz[k];
-		float d2 = dx * dx + dy * dy + dz * dz;
-		if (d2 < rad2 && nx * gnx[k] + ny * gny[k] + nz * gnz[k] > side_cos) {
-			float theta = exp(-d2 * inv_r * inv_r);
-			float dl = glen[k] - len;
-			cx -= theta * dx;
-			cy -= theta * dy;
-			cz -= theta * dz;
-			count += 1.0f;
-			sd += dl * inv_r;
-			sd2 += (dl * inv_r) * (dl * inv_r);
-			st += theta;
-			stl += theta * dl;
-			if (d2 >= min_d2) {
-				nn2 = fmin(nn2, d2);
-				float dn = dx * nx + dy * ny + dz * nz;
-				float tx = dx - dn * nx, ty = dy - dn * ny, tz = dz - dn * nz;
-				float t = fmax(sqrt(tx * tx + ty * ty + tz * tz) * inv_r, tfloor);
-				float beta = theta / (t * t * t * t * t);
-				sb += beta;
-				bx += beta * tx;
-				by += beta * ty;
-				bz += beta * tz;
-			}
-		}
-	GRID_FOR_END
+	LANE_T count_v = 0.0f, sd_v = 0.0f, sd2_v = 0.0f, st_v = 0.0f, stl_v = 0.0f;
+	LANE_T sb_v = 0.0f, bx_v = 0.0f, by_v = 0.0f, bz_v = 0.0f, nn2_v = rad2;
+	LANE_T cx_v = 0.0f, cy_v = 0.0f, cz_v = 0.0f;
+	float count_s = 0.0f, sd_s = 0.0f, sd2_s = 0.0f, st_s = 0.0f, stl_s = 0.0f;
+	float sb_s = 0.0f, bx_s = 0.0f, by_s = 0.0f, bz_s = 0.0f, nn2_s = rad2;
+	float cx_s = 0.0f, cy_s = 0.0f, cz_s = 0.0f;
+	GRID_PAIRS(px, py, pz, SURFACE_NB_BODY)
+	float count = LANE_SUM(count_v) + count_s, sd = LANE_SUM(sd_v) + sd_s, sd2 = LANE_SUM(sd2_v) + sd2_s;
+	float st = LANE_SUM(st_v) + st_s, stl = LANE_SUM(stl_v) + stl_s, sb = LANE_SUM(sb_v) + sb_s;
+	float bx = LANE_SUM(bx_v) + bx_s, by = LANE_SUM(by_v) + by_s, bz = LANE_SUM(bz_v) + bz_s;
+	float cx = LANE_SUM(cx_v) + cx_s, cy = LANE_SUM(cy_v) + cy_s, cz = LANE_SUM(cz_v) + cz_s;
+	float nn2 = fmin(LANE_MIN(nn2_v), nn2_s);
 	float mean = count > 0.0f ? sd / count : 0.0f;
 	L_out[i] = st > 0.0f ? len + stl / st : len;
 	var_out[i] = count > 0.0f ? fmax(sd2 / count - mean * mean, 0.0f) : 0.0f;
@@ -92,6 +112,27 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 	my[i] = st > 0.0f ? cy / st : 0.0f;
 	mz[i] = st > 0.0f ? cz / st : 0.0f;
 }
+
+#define SURFACE_COV_BODY(T, LOAD, k, live, s)                                                  \
+	{                                                                                      \
+		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
+		T one = select((T)0.0f, (T)1.0f,                                               \
+			       (live) & (dx * dx + dy * dy + dz * dz < rad2) &                 \
+				       (nx * LOAD(gnx, k) + ny * LOAD(gny, k) + nz * LOAD(gnz, k) > side_cos)); \
+		dx *= one * inv_r;                                                             \
+		dy *= one * inv_r;                                                             \
+		dz *= one * inv_r;                                                             \
+		cnt##s += one;                                                                 \
+		mx##s += dx;                                                                   \
+		my##s += dy;                                                                   \
+		mz##s += dz;                                                                   \
+		cxx##s += dx * dx;                                                             \
+		cxy##s += dx * dy;                                                             \
+		cxz##s += dx * dz;                                                             \
+		cyy##s += dy * dy;                                                             \
+		cyz##s += dy * dz;                                                             \
+		czz##s += dz * dz;                                                             \
+	}
 
 __kernel void surface_covariance(const uint n, __global const float *qx, __global const float *qy,
 				 __global const float *qz, __global const float *qnx, __global const float *qny,
@@ -105,26 +146,15 @@ __kernel void surface_covariance(const uint n, __global const float *qx, __globa
 	float px = qx[i], py = qy[i], pz = qz[i];
 	float nx = qnx[i], ny = qny[i], nz = qnz[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
-	float cnt = 0.0f, mx = 0.0f, my = 0.0f, mz = 0.0f;
-	float cxx = 0.0f, cxy = 0.0f, cxz = 0.0f, cyy = 0.0f, cyz = 0.0f, czz = 0.0f;
-	GRID_FOR(px, py, pz, k)
-		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
-		if (dx * dx + dy * dy + dz * dz < rad2 && nx * gnx[k] + ny * gny[k] + nz * gnz[k] > side_cos) {
-			dx *= inv_r;
-			dy *= inv_r;
-			dz *= inv_r;
-			cnt += 1.0f;
-			mx += dx;
-			my += dy;
-			mz += dz;
-			cxx += dx * dx;
-			cxy += dx * dy;
-			cxz += dx * dz;
-			cyy += dy * dy;
-			cyz += dy * dz;
-			czz += dz * dz;
-		}
-	GRID_FOR_END
+	LANE_T cnt_v = 0.0f, mx_v = 0.0f, my_v = 0.0f, mz_v = 0.0f;
+	LANE_T cxx_v = 0.0f, cxy_v = 0.0f, cxz_v = 0.0f, cyy_v = 0.0f, cyz_v = 0.0f, czz_v = 0.0f;
+	float cnt_s = 0.0f, mx_s = 0.0f, my_s = 0.0f, mz_s = 0.0f;
+	float cxx_s = 0.0f, cxy_s = 0.0f, cxz_s = 0.0f, cyy_s = 0.0f, cyz_s = 0.0f, czz_s = 0.0f;
+	GRID_PAIRS(px, py, pz, SURFACE_COV_BODY)
+	float cnt = LANE_SUM(cnt_v) + cnt_s;
+	float mx = LANE_SUM(mx_v) + mx_s, my = LANE_SUM(my_v) + my_s, mz = LANE_SUM(mz_v) + mz_s;
+	float cxx = LANE_SUM(cxx_v) + cxx_s, cxy = LANE_SUM(cxy_v) + cxy_s, cxz = LANE_SUM(cxz_v) + cxz_s;
+	float cyy = LANE_SUM(cyy_v) + cyy_s, cyz = LANE_SUM(cyz_v) + cyz_s, czz = LANE_SUM(czz_v) + czz_s;
 	__global float *c = cov + 6 * (size_t)i;
 	if (cnt == 0.0f) {
 		for (int m = 0; m < 6; m++)
