@@ -64,6 +64,14 @@ if len(rows) != 5 or any(r[-2] != "0" for r in rows):
     sys.exit("expected 5 ok rows with device 0: %r" % rows)
 ' "$tmp/workers.out" 2>&1); then ok "two workers: the table names the device of every input"; else fail "two workers: $msg"; fi
 
+# --device all: every device dp_devices lists (here PoCL's one), by index
+expect_ok all consolidate "$tmp/scans/sphere.ply" "$tmp/scans/knot.ply" -o "$tmp/all" "${opts[@]}" --device all &&
+	cmp -s "$tmp/all/knot/surface.ply" "$tmp/single/knot/surface.ply" &&
+	[ "$(grep -c ' 0  *ok$' "$tmp/all.out")" -eq 2 ] && ok "--device all: both inputs on device 0, same files" ||
+	fail "--device all: $(cat "$tmp/all.out")"
+run baddev consolidate "$tmp/scans/sphere.ply" -o "$tmp/baddev" "${opts[@]}" --device 0,
+one_error_line baddev 2 "--device" "empty"
+
 # resume: one result deleted, the rest are done and left alone
 cp -a "$tmp/single" "$tmp/resumed"
 rm -r "$tmp/resumed/cylinder"

@@ -5,7 +5,6 @@
 #include "cli/batch.h"
 #include "cli/json_read.h"
 
-#include <CL/cl.h>
 #include <ctype.h>
 #include <errno.h>
 #include <stdlib.h>
@@ -160,23 +159,6 @@ int dp_cli_result_done(const char *dir, const char *input)
 	return done;
 }
 
-/* Counts devices the way dp_context_create indexes them: every device of
- * every platform, in order. */
-static size_t count_devices(void)
-{
-	cl_platform_id platforms[32];
-	cl_uint nplat = 0;
-	if (clGetPlatformIDs(32, platforms, &nplat) != CL_SUCCESS)
-		return 0;
-	size_t total = 0;
-	for (cl_uint p = 0; p < nplat && p < 32; p++) {
-		cl_uint ndev = 0;
-		if (clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, 0, NULL, &ndev) == CL_SUCCESS)
-			total += ndev;
-	}
-	return total;
-}
-
 int dp_cli_device_list(const char *cmd, const char *spec, dp_cli_list *devices)
 {
 	if (!spec || !*spec)
@@ -188,7 +170,14 @@ int dp_cli_device_list(const char *cmd, const char *spec, dp_cli_list *devices)
 		return 0;
 	}
 	if (strcmp(spec, "all") == 0) {
-		size_t n = count_devices();
+		dp_device_info *list = NULL;
+		size_t n = 0;
+		dp_error err = {0};
+		if (dp_devices(&list, &n, &err) != DP_OK) {
+			fprintf(stderr, "dpoints %s: --device all: %s\n", cmd, err.message);
+			return dp_cli_exit_code(err.status);
+		}
+		dp_devices_free(list);
 		if (n == 0) {
 			fprintf(stderr, "dpoints %s: --device all: no OpenCL device found (dpoints devices lists them)\n",
 				cmd);
