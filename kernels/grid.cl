@@ -119,6 +119,18 @@ int grid_reach_cells(float len, float cell, int margin)
 #error "DP_LANES must be 1, 4, 8 or 16"
 #endif
 #define SCALAR_LOAD(p, k) ((p)[k])
+/* The grid index of each lane of the block from k, and of a tail index. */
+#define LANE_INDEX_v(k) ((LANE_I)(int)(k) + LANE_IDS)
+#define LANE_INDEX_s(k) ((int)(k))
+#if DP_LANES == 1
+#define LANE_STORE(v, p) (*(p) = (v))
+#define LANE_STORE_I(v, p) (*(p) = (v))
+#else
+#define LANE_STORE_F_(n) vstore##n
+#define LANE_STORE_N_(n) LANE_STORE_F_(n)
+#define LANE_STORE(v, p) LANE_STORE_N_(DP_LANES)((v), 0, (p))
+#define LANE_STORE_I(v, p) LANE_STORE_N_(DP_LANES)((v), 0, (p))
+#endif
 
 float4 lane_sum8(float8 v) { return v.lo + v.hi; }
 float lane_sum4(float4 v) { float2 a = v.lo + v.hi; return a.x + a.y; }
@@ -147,6 +159,35 @@ float lane_min4(float4 v) { float2 a = fmin(v.lo, v.hi); return fmin(a.x, a.y); 
 					       (uint)gp_cx_;                                   \
 				uint gp_end_ = cell_start[gp_row_ + 1] + cell_count[gp_row_ + 1]; \
 				uint k = cell_start[gp_row_ - 1];                              \
+				for (; k < gp_end_ && k + DP_LANES <= gp_n_; k += DP_LANES) {  \
+					LANE_I live = LANE_IDS < (LANE_I)(int)(gp_end_ - k);   \
+					BODY(LANE_T, LANE_LOAD, k, live, _v)                   \
+				}                                                              \
+				for (; k < gp_end_; k++) {                                     \
+					BODY(float, SCALAR_LOAD, k, 1, _s)                     \
+				}                                                              \
+			}                                                                      \
+	}
+
+/* GRID_PAIRS over the rows of GRID_FOR_REACH: every grid index whose point may
+ * lie within (rx, ry, rz) cells of (px, py, pz), each reach in [0, margin]. */
+#define GRID_PAIRS_REACH(px, py, pz, rx, ry, rz, BODY)                                         \
+	{                                                                                      \
+		uint gp_last_ = (uint)(grid_dim.x * grid_dim.y * grid_dim.z) - 1u;             \
+		uint gp_n_ = cell_start[gp_last_] + cell_count[gp_last_];                     \
+		int gm_ = grid_dim.w;                                                          \
+		int gp_cx_ = grid_coord_margin((px), grid_origin_cell.x, grid_origin_cell.w, grid_dim.x, gm_); \
+		int gp_cy_ = grid_coord_margin((py), grid_origin_cell.y, grid_origin_cell.w, grid_dim.y, gm_); \
+		int gp_cz_ = grid_coord_margin((pz), grid_origin_cell.z, grid_origin_cell.w, grid_dim.z, gm_); \
+		int gp_rx_ = (rx), gp_ry_ = (ry), gp_rz_ = (rz);                              \
+		for (int gp_dz_ = -gp_rz_; gp_dz_ <= gp_rz_; gp_dz_++)                        \
+			for (int gp_dy_ = -gp_ry_; gp_dy_ <= gp_ry_; gp_dy_++) {              \
+				uint gp_row_ = ((uint)(gp_cz_ + gp_dz_) * (uint)grid_dim.y +   \
+						(uint)(gp_cy_ + gp_dy_)) * (uint)grid_dim.x +  \
+					       (uint)gp_cx_;                                   \
+				uint gp_end_ = cell_start[gp_row_ + (uint)gp_rx_] +            \
+					       cell_count[gp_row_ + (uint)gp_rx_];             \
+				uint k = cell_start[gp_row_ - (uint)gp_rx_];                   \
 				for (; k < gp_end_ && k + DP_LANES <= gp_n_; k += DP_LANES) {  \
 					LANE_I live = LANE_IDS < (LANE_I)(int)(gp_end_ - k);   \
 					BODY(LANE_T, LANE_LOAD, k, live, _v)                   \

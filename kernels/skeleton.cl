@@ -82,14 +82,30 @@ __kernel void skeleton_semiaxes(const uint n, __global const float *qx, __global
 	int ry = grid_reach_cells((reach)[3 * (i) + 1], grid_origin_cell.w, grid_dim.w); \
 	int rz = grid_reach_cells((reach)[3 * (i) + 2], grid_origin_cell.w, grid_dim.w);
 
-float skeleton_u2(float m0x, float m0y, float m0z, float m1x, float m1y, float m1z, float m2x, float m2y,
-		  float m2z, float dx, float dy, float dz)
-{
-	float a = m0x * dx + m0y * dy + m0z * dz;
-	float b = m1x * dx + m1y * dy + m1z * dz;
-	float c = m2x * dx + m2y * dy + m2z * dz;
-	return a * a + b * b + c * c;
-}
+/* u² of an offset (dx, dy, dz) of type T under the metric rows. */
+#define SKELETON_U2(T, dx, dy, dz)                                                              \
+	(skeleton_sq((T)(m0x * (dx) + m0y * (dy) + m0z * (dz))) +                               \
+	 skeleton_sq((T)(m1x * (dx) + m1y * (dy) + m1z * (dz))) +                               \
+	 skeleton_sq((T)(m2x * (dx) + m2y * (dy) + m2z * (dz))))
+#define skeleton_sq(a) ((a) * (a))
+
+/* The two sums take candidates DP_LANES at a time (GRID_PAIRS_REACH,
+ * kernels/grid.cl), pairs outside them masked by select. Every lane computes
+ * the weight, so u² is clamped to the cut-off first: exp of the far lanes'
+ * large u² gives denormals, which made the unclamped repulsion 3x slower. */
+#define SKELETON_MEDIAN_BODY(T, LOAD, k, live, s)                                              \
+	{                                                                                      \
+		T hx = LOAD(gx, k), hy = LOAD(gy, k), hz = LOAD(gz, k);                        \
+		T dx = px - hx, dy = py - hy, dz = pz - hz;                                    \
+		T d2 = dx * dx + dy * dy + dz * dz;                                            \
+		T u2 = SKELETON_U2(T, dx, dy, dz);                                             \
+		T alpha = select((T)0.0f, exp(-fmin(u2, cut2)) / sqrt(d2),                     \
+				 (live) & (u2 <= cut2) & (d2 >= min_d2));                       \
+		w##s += alpha;                                                                 \
+		sx##s += alpha * hx;                                                           \
+		sy##s += alpha * hy;                                                           \
+		sz##s += alpha * hz;                                                           \
+	}
 
 __kernel void skeleton_median(const uint n, __global const float *qx, __global const float *qy,
 			      __global const float *qz, __global const float *metric, __global const float *reach,
@@ -102,26 +118,31 @@ __kernel void skeleton_median(const uint n, __global const float *qx, __global c
 	SKELETON_METRIC_LOAD(metric, i)
 	SKELETON_REACH_LOAD(reach, i)
 	float cut2 = cutoff * cutoff;
-	float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-	GRID_FOR_REACH(px, py, pz, rx, ry, rz, k)
-		float hx = gx[k], hy = gy[k], hz = gz[k];
-		float dx = px - hx, dy = py - hy, dz = pz - hz;
-		float d2 = dx * dx + dy * dy + dz * dz;
-		float u2 = skeleton_u2(m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z, dx, dy, dz);
-		if (u2 <= cut2 && d2 >= min_d2) {
-			float alpha = exp(-u2) / sqrt(d2);
-			w += alpha;
-			sx += alpha * hx;
-			sy += alpha * hy;
-			sz += alpha * hz;
-		}
-	GRID_FOR_END
+	LANE_T w_v = 0.0f, sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f;
+	float w_s = 0.0f, sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f;
+	GRID_PAIRS_REACH(px, py, pz, rx, ry, rz, SKELETON_MEDIAN_BODY)
+	float w = LANE_SUM(w_v) + w_s;
+	float sx = LANE_SUM(sx_v) + sx_s, sy = LANE_SUM(sy_v) + sy_s, sz = LANE_SUM(sz_v) + sz_s;
 	int found = w > 0.0f;
 	float inv = found ? 1.0f / w : 0.0f;
 	median[3 * i + 0] = found ? sx * inv : px;
 	median[3 * i + 1] = found ? sy * inv : py;
 	median[3 * i + 2] = found ? sz * inv : pz;
 }
+
+#define SKELETON_REPULSE_BODY(T, LOAD, k, live, s)                                             \
+	{                                                                                      \
+		T dx = px - LOAD(gx, k), dy = py - LOAD(gy, k), dz = pz - LOAD(gz, k);        \
+		T d2 = dx * dx + dy * dy + dz * dz;                                            \
+		T u2 = SKELETON_U2(T, dx, dy, dz);                                             \
+		T uc = fmin(u2, cut2);                                                         \
+		T beta = select((T)0.0f, exp(-uc) / (uc * uc * sqrt(uc)),                      \
+				(live) & (u2 <= cut2) & (d2 >= min_d2));                        \
+		w##s += beta;                                                                  \
+		sx##s += beta * dx;                                                            \
+		sy##s += beta * dy;                                                            \
+		sz##s += beta * dz;                                                            \
+	}
 
 __kernel void skeleton_repulse(const uint n, __global const float *qx, __global const float *qy,
 			       __global const float *qz, __global const float *metric, __global const float *reach,
@@ -134,19 +155,11 @@ __kernel void skeleton_repulse(const uint n, __global const float *qx, __global 
 	SKELETON_METRIC_LOAD(metric, i)
 	SKELETON_REACH_LOAD(reach, i)
 	float cut2 = cutoff * cutoff;
-	float w = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-	GRID_FOR_REACH(px, py, pz, rx, ry, rz, k)
-		float dx = px - gx[k], dy = py - gy[k], dz = pz - gz[k];
-		float d2 = dx * dx + dy * dy + dz * dz;
-		float u2 = skeleton_u2(m0x, m0y, m0z, m1x, m1y, m1z, m2x, m2y, m2z, dx, dy, dz);
-		if (u2 <= cut2 && d2 >= min_d2) {
-			float beta = exp(-u2) / (u2 * u2 * sqrt(u2));
-			w += beta;
-			sx += beta * dx;
-			sy += beta * dy;
-			sz += beta * dz;
-		}
-	GRID_FOR_END
+	LANE_T w_v = 0.0f, sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f;
+	float w_s = 0.0f, sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f;
+	GRID_PAIRS_REACH(px, py, pz, rx, ry, rz, SKELETON_REPULSE_BODY)
+	float w = LANE_SUM(w_v) + w_s;
+	float sx = LANE_SUM(sx_v) + sx_s, sy = LANE_SUM(sy_v) + sy_s, sz = LANE_SUM(sz_v) + sz_s;
 	float inv = w > 0.0f ? 1.0f / w : 0.0f;
 	repulse[3 * i + 0] = sx * inv;
 	repulse[3 * i + 1] = sy * inv;

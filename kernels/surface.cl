@@ -3,14 +3,16 @@
 
 /* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl); a
  * pair outside the sums is masked by select, never by a branch, so the lanes
- * stay in step and the 1/d of a skipped pair never reaches a sum. */
+ * stay in step and the 1/d of a skipped pair never reaches a sum. d² enters
+ * exp clamped to the radius: the far lanes' exp would give denormals, which
+ * are slow (kernels/skeleton.cl). */
 
 #define SURFACE_DATA_IN(live) ((live) & (d2 < rad2) & (dx * six + dy * siy + dz * siz + depth > 0.0f))
 #define SURFACE_DATA_BODY(T, LOAD, k, live, s)                                                 \
 	{                                                                                      \
 		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
 		T d2 = dx * dx + dy * dy + dz * dz;                                            \
-		T theta = select((T)0.0f, exp(-d2 * inv_r * inv_r), SURFACE_DATA_IN(live));    \
+		T theta = select((T)0.0f, exp(-fmin(d2, rad2) * inv_r * inv_r), SURFACE_DATA_IN(live));    \
 		eta##s += theta;                                                               \
 		T alpha = select((T)0.0f, theta / (sqrt(d2) * inv_r),                          \
 				 SURFACE_DATA_IN(live) & (d2 >= min_d2));                       \
@@ -51,7 +53,7 @@ __kernel void surface_data(const uint n, __global const float *qx, __global cons
 		T dx = px - LOAD(gx, k), dy = py - LOAD(gy, k), dz = pz - LOAD(gz, k);        \
 		T d2 = dx * dx + dy * dy + dz * dz;                                            \
 		T one = select((T)0.0f, (T)1.0f, SURFACE_NB_IN(live, LOAD));                         \
-		T theta = one * exp(-d2 * inv_r * inv_r);                                      \
+		T theta = one * exp(-fmin(d2, rad2) * inv_r * inv_r);                                      \
 		T dl = LOAD(glen, k) - len;                                                    \
 		T dlr = one * (dl * inv_r);                                                    \
 		cx##s -= theta * dx;                                                           \
@@ -172,6 +174,25 @@ __kernel void surface_covariance(const uint n, __global const float *qx, __globa
 	c[5] = czz / cnt - mz * mz;
 }
 
+/* Each lane keeps its first smallest line distance (strictly smaller
+ * replaces), so the smallest (distance, index) over the lanes and the tail is
+ * the first in grid order on ties, as the sequential scan. */
+#define SURFACE_REATTACH_BODY(T, LOAD, k, live, s)                                             \
+	{                                                                                      \
+		T hx = LOAD(gx, k), hy = LOAD(gy, k), hz = LOAD(gz, k);                        \
+		T ex = hx - qx, ey = hy - qy, ez = hz - qz;                                    \
+		T vx = px - hx, vy = py - hy, vz = pz - hz;                                    \
+		T t = vx * nx + vy * ny + vz * nz;                                             \
+		T wx = vx - t * nx, wy = vy - t * ny, wz = vz - t * nz;                        \
+		T line2 = wx * wx + wy * wy + wz * wz;                                         \
+		bool_##s better = (live) & (ex * ex + ey * ey + ez * ez < rad2) & (t > 0.0f) & \
+				  (line2 < bd##s);                                              \
+		bd##s = select(bd##s, line2, better);                                          \
+		bk##s = select(bk##s, LANE_INDEX##s(k), better);                               \
+	}
+#define bool__v LANE_I
+#define bool__s int
+
 __kernel void surface_reattach(const uint n, __global const float *iqx, __global const float *iqy,
 			       __global const float *iqz, __global const float *ipx, __global const float *ipy,
 			       __global const float *ipz, __global const float *inx, __global const float *iny,
@@ -185,23 +206,22 @@ __kernel void surface_reattach(const uint n, __global const float *iqx, __global
 	float px = ipx[i], py = ipy[i], pz = ipz[i];
 	float nx = inx[i], ny = iny[i], nz = inz[i];
 	float rad2 = radius * radius;
-	int best = -1;
-	float best_d2 = 0.0f;
-	GRID_FOR(qx, qy, qz, k)
-		float ex = gx[k] - qx, ey = gy[k] - qy, ez = gz[k] - qz;
-		if (ex * ex + ey * ey + ez * ez < rad2) {
-			float vx = px - gx[k], vy = py - gy[k], vz = pz - gz[k];
-			float t = vx * nx + vy * ny + vz * nz;
-			if (t > 0.0f) {
-				float wx = vx - t * nx, wy = vy - t * ny, wz = vz - t * nz;
-				float line2 = wx * wx + wy * wy + wz * wz;
-				if (best < 0 || line2 < best_d2) {
-					best = (int)k;
-					best_d2 = line2;
-				}
-			}
+	LANE_T bd_v = INFINITY;
+	LANE_I bk_v = -1;
+	float bd_s = INFINITY;
+	int bk_s = -1;
+	GRID_PAIRS(qx, qy, qz, SURFACE_REATTACH_BODY)
+	float bd[DP_LANES];
+	int bk[DP_LANES];
+	LANE_STORE(bd_v, bd);
+	LANE_STORE_I(bk_v, bk);
+	int best = bk_s;
+	float best_d2 = bd_s;
+	for (int l = 0; l < DP_LANES; l++)
+		if (bk[l] >= 0 && (best < 0 || bd[l] < best_d2 || (bd[l] == best_d2 && bk[l] < best))) {
+			best = bk[l];
+			best_d2 = bd[l];
 		}
-	GRID_FOR_END
 	best_out[i] = best;
 	dist2_out[i] = best < 0 ? 0.0f : best_d2 / (r * r);
 }
