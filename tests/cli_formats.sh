@@ -1,8 +1,8 @@
 #!/usr/bin/env bash
 # Reading what people have and writing where they want: gzip-compressed
 # inputs, standard input with --format, `wlop -o -`, XYZ columns detected or
-# named (ambiguous ones refused naming --columns), Leica PTS, and colours
-# carried through: a two-coloured scan keeps each half's colour in
+# named (ambiguous ones refused naming --columns), Leica PTS, and colours and
+# intensities carried through: a two-coloured scan keeps each half's colour in
 # surface.ply, and wlop's output has the input's colours.
 source "$(dirname "$0")/support/cli_check.sh"
 opts=(--samples 300 --seed 5 --quiet)
@@ -28,7 +28,7 @@ with open(out + "/odd.xyz", "w") as f:
 with open(out + "/scan.pts", "w") as f:
     f.write("%d\n" % len(rows))
     for r in rows:
-        f.write("%.6f %.6f %.6f %d %d %d %d\n" % (r[:3] + (-900,) + col(r)))
+        f.write("%.6f %.6f %.6f %d %d %d %d\n" % (r[:3] + (-900 if r[0] < 0 else 500,) + col(r)))
 with open(out + "/two.ply", "w") as f:
     f.write("ply\nformat ascii 1.0\nelement vertex %d\nproperty float x\nproperty float y\nproperty float z\n"
             "property uchar red\nproperty uchar green\nproperty uchar blue\nend_header\n" % len(rows))
@@ -99,6 +99,23 @@ msg=$(side_colours "$tmp/two/wlop.ply" 2>&1) && ok "--save-stages wlop.ply has t
 py "$PLY_PY"'
 import sys
 names, _, _ = read_ply(sys.argv[1])
-sys.exit(0 if "red" not in names else "colours without coloured input")
+sys.exit(0 if "red" not in names and "intensity" not in names else "colours without coloured input")
 ' "$tmp/plain/surface.ply" && ok "no colours in, no colours out" || fail "plain input got colours"
+
+# intensity: PTS -> wlop output and surface.ply, by side
+side_intensity() {
+	py "$PLY_PY"'
+import sys
+names, rows, _ = read_ply(sys.argv[1])
+if "intensity" not in names:
+    sys.exit("no intensity in %s: %s" % (sys.argv[1], names))
+x, i = names.index("x"), names.index("intensity")
+wrong = [r for r in rows if abs(r[x]) > 0.15 and r[i] != (-900 if r[x] < 0 else 500)]
+sys.exit("%d of %d points with the other side'"'"'s intensity" % (len(wrong), len(rows)) if wrong else 0)
+' "$1"
+}
+msg=$(side_intensity "$tmp/w_scan.pts.ply" 2>&1) && ok "wlop scan.pts: intensity carried" || fail "wlop intensity: $msg"
+expect_ok pts consolidate "$tmp/scan.pts" -o "$tmp/pts" --samples 400 --quiet &&
+	msg=$(side_intensity "$tmp/pts/surface.ply" 2>&1) && ok "PTS: surface.ply has the intensity of each side" ||
+	fail "surface.ply intensity: ${msg:-}"
 finish

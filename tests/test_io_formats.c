@@ -6,7 +6,7 @@
 #include "testkit.h"
 
 #include "io/io.h"
-#include "knn/colour.h"
+#include "knn/attributes.h"
 
 #include <dirent.h>
 #include <math.h>
@@ -63,6 +63,8 @@ static void expect_same_cloud(const dp_cloud *a, const dp_cloud *b, const char *
 		fail_msg("%s: normals differ", what);
 	if (a->rgb && memcmp(a->rgb, b->rgb, 3 * a->n))
 		fail_msg("%s: colours differ", what);
+	if (!a->intensity != !b->intensity || (a->intensity && memcmp(a->intensity, b->intensity, bytes)))
+		fail_msg("%s: intensities differ", what);
 }
 
 /* Every seed of every format, compressed: the same cloud from a file named
@@ -259,13 +261,17 @@ static void test_pts(void **state)
 	assert_null(c.nx);
 	expect_rgb(&c, 0, 255, 0, 0);
 	expect_rgb(&c, 2, 0, 0, 255);
+	assert_non_null(c.intensity);
+	assert_float_equal(c.intensity[0], -1200.0f, 0.0f);
 	dp_cloud_free(&c);
 	/* two scans in one file, each with its count line; intensity only */
 	read_text("two.pts", "2\n0 0 0 7\n1 0 0 8\n1\n0 1 0 9\n", NULL, &c);
 	assert_int_equal(c.n, 3);
 	assert_null(c.rgb);
 	assert_float_equal(c.y[2], 1.0f, 0.0f);
+	assert_float_equal(c.intensity[2], 9.0f, 0.0f);
 	dp_cloud_free(&c);
+	read_text_fail("nan.pts", "1\n0 0 0 nan\n", NULL, "intensity");
 }
 
 static void test_ply_pcd_colours(void **state)
@@ -286,6 +292,19 @@ static void test_ply_pcd_colours(void **state)
 		  "0 0 0 1 0.5 0\n",
 		  NULL, &c);
 	expect_rgb(&c, 0, 255, 128, 0);
+	dp_cloud_free(&c);
+	read_text("i.ply",
+		  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\nproperty float z\n"
+		  "property float scalar_Intensity\nend_header\n0 0 0 0.25\n1 0 0 12\n",
+		  NULL, &c);
+	assert_null(c.rgb);
+	assert_float_equal(c.intensity[1], 12.0f, 0.0f);
+	dp_cloud_free(&c);
+	read_text("i.pcd",
+		  "VERSION .7\nFIELDS x y z intensity\nSIZE 4 4 4 4\nTYPE F F F F\nCOUNT 1 1 1 1\nWIDTH 1\nHEIGHT 1\n"
+		  "POINTS 1\nDATA ascii\n1 2 3 77.5\n",
+		  NULL, &c);
+	assert_float_equal(c.intensity[0], 77.5f, 0.0f);
 	dp_cloud_free(&c);
 	/* PCL packs rgb into a float's bits */
 	uint32_t packed = 0x00ff8001u;
@@ -328,7 +347,9 @@ static void test_write_and_carry(void **state)
 	dp_cloud c = {0}, back = {0}, near = {0};
 	assert_int_equal(dp_cloud_alloc(&c, 4, 1, &err), DP_OK);
 	c.rgb = malloc(12);
+	c.intensity = malloc(4 * sizeof(float));
 	for (size_t i = 0; i < 4; i++) {
+		c.intensity[i] = 0.5f * (float)i;
 		c.x[i] = (float)i;
 		c.y[i] = c.z[i] = 0;
 		c.nx[i] = c.ny[i] = 0;
@@ -353,9 +374,11 @@ static void test_write_and_carry(void **state)
 	near.x[0] = 2.9f;
 	near.x[1] = 0.2f;
 	near.y[0] = near.y[1] = near.z[0] = near.z[1] = 0.1f;
-	assert_int_equal(dp_transfer_colours(&near, &c, &err), DP_OK);
+	assert_int_equal(dp_transfer_attributes(&near, &c, &err), DP_OK);
 	expect_rgb(&near, 0, 180, 7, 247);
 	expect_rgb(&near, 1, 0, 7, 250);
+	assert_float_equal(near.intensity[0], 1.5f, 0.0f);
+	assert_float_equal(near.intensity[1], 0.0f, 0.0f);
 	dp_cloud_free(&near);
 	dp_cloud_free(&c);
 	tk_remove_dir(dir);

@@ -1,7 +1,7 @@
 /* dpoints wlop: raw cloud -> WLOP samples with oriented normals (stage 1). */
 #include "cli/consolidate.h"
 #include "cli/input.h"
-#include "knn/colour.h"
+#include "knn/attributes.h"
 #include "core/common.h"
 
 #include <string.h>
@@ -177,7 +177,7 @@ int dp_cmd_wlop(int argc, char **argv)
 		goto done;
 	}
 	run.seconds_normals = dp_seconds() - t0;
-	if (dp_transfer_colours(&out, &in, &err) != DP_OK) {
+	if (dp_transfer_attributes(&out, &in, &err) != DP_OK) {
 		dp_cli_name_input(&err, run.input);
 		rc = dp_cli_fail(cmd, &err);
 		goto done;

@@ -41,7 +41,7 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 		dp_cli_progress_end(job->progress, cst == DP_OK);
 		job->progress->params = NULL;
 	}
-	if (cst == DP_OK && in->rgb)
+	if (cst == DP_OK && (in->rgb || in->intensity))
 		cst = dp_cli_carry_colours(in, res, &err);
 	if (cst != DP_OK) {
 		dp_cli_name_input(&err, label);

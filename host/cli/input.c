@@ -4,7 +4,7 @@
 #include "cli/input.h"
 
 #include "io/io.h"
-#include "knn/colour.h"
+#include "knn/attributes.h"
 
 #include <errno.h>
 #include <stdlib.h>
@@ -18,9 +18,9 @@ dp_status dp_cli_read_input(const char *path, const char *format, const char *co
 
 dp_status dp_cli_carry_colours(const dp_cloud *in, dp_result *res, dp_error *err)
 {
-	dp_status st = dp_transfer_colours(&res->surface, in, err);
+	dp_status st = dp_transfer_attributes(&res->surface, in, err);
 	if (st == DP_OK && res->wlop.n)
-		st = dp_transfer_colours(&res->wlop, in, err);
+		st = dp_transfer_attributes(&res->wlop, in, err);
 	return st;
 }
 

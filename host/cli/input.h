@@ -16,8 +16,9 @@
  * detected); path "-" is standard input. */
 dp_status dp_cli_read_input(const char *path, const char *format, const char *columns, dp_cloud *cloud,
 			    dp_error *err);
-/* Colours of the input, when it has them, onto the surface and the WLOP
- * samples of `res` (each point takes its nearest input point's colour). */
+/* Colours and intensities of the input, when it has them, onto the surface
+ * and the WLOP samples of `res` (each point takes its nearest input
+ * point's). */
 dp_status dp_cli_carry_colours(const dp_cloud *in, dp_result *res, dp_error *err);
 /* `-o -`: runs `write` into a temporary file, then copies it to stdout, so a
  * failure writes nothing there. 0 or an exit code after one error line. */

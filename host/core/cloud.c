@@ -49,6 +49,7 @@ void dp_cloud_free(dp_cloud *cloud)
 	free(cloud->nz);
 	free(cloud->faces);
 	free(cloud->rgb);
+	free(cloud->intensity);
 	memset(cloud, 0, sizeof *cloud);
 }
 
@@ -82,6 +83,14 @@ dp_status dp_cloud_copy(dp_cloud *dst, const dp_cloud *src, dp_error *err)
 			return dp_fail(err, DP_ERR_NOMEM, "out of memory copying %zu colours", src->n);
 		}
 		memcpy(dst->rgb, src->rgb, 3 * src->n);
+	}
+	if (src->intensity) {
+		dst->intensity = dp_alloc_array(src->n, sizeof(float));
+		if (!dst->intensity) {
+			dp_cloud_free(dst);
+			return dp_fail(err, DP_ERR_NOMEM, "out of memory copying %zu intensities", src->n);
+		}
+		memcpy(dst->intensity, src->intensity, src->n * sizeof(float));
 	}
 	return DP_OK;
 }

@@ -78,7 +78,9 @@ DP_API const char *dp_status_string(dp_status status);
  * either all NULL or all hold n floats. faces, when not NULL, holds 3*nfaces
  * vertex indices of triangles (only filled when a mesh is asked for). rgb,
  * when not NULL, holds 3*n colour bytes (red, green, blue of point i at 3i),
- * as read from PLY red/green/blue, PCD rgb/rgba and XYZ/PTS colour columns.
+ * as read from PLY red/green/blue, PCD rgb/rgba and XYZ/PTS colour columns;
+ * intensity, when not NULL, n values as read (PLY intensity or
+ * scalar_intensity, PCD intensity, the XYZ/PTS intensity column).
  * All arrays are malloc'ed and owned by the struct; release with dp_cloud_free.
  */
 typedef struct dp_cloud {
@@ -88,6 +90,7 @@ typedef struct dp_cloud {
 	size_t nfaces;
 	uint32_t *faces;
 	unsigned char *rgb; /* last, so code built against the struct without it still lines up */
+	float *intensity;
 } dp_cloud;
 
 /* Allocates arrays for n points (and normals when with_normals); the contents

@@ -2,6 +2,7 @@
 
 #include "core/common.h"
 
+#include <math.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -46,6 +47,22 @@ void dp_io_builder_set_rgb(dp_io_builder *b, size_t index, const unsigned char r
 		memcpy(b->c.rgb + 3 * index, rgb, 3);
 }
 
+dp_status dp_io_builder_want_intensity(dp_io_builder *b, dp_error *err)
+{
+	if (b->c.n > 0)
+		return dp_fail(err, DP_ERR_INTERNAL, "io builder: intensities requested after points were added");
+	b->intensities = 1;
+	size_t cap = b->cap;
+	b->cap = 0;
+	return dp_io_builder_reserve(b, cap, err);
+}
+
+void dp_io_builder_set_intensity(dp_io_builder *b, size_t index, float value)
+{
+	if (b->intensities && index < b->c.n)
+		b->c.intensity[index] = value;
+}
+
 /* realloc that leaves *p untouched on failure, so every array stays owned. */
 static int grow_array(float **p, size_t n)
 {
@@ -73,6 +90,8 @@ dp_status dp_io_builder_reserve(dp_io_builder *b, size_t n, dp_error *err)
 			return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu colours", n);
 		b->c.rgb = rgb;
 	}
+	if (b->intensities && !grow_array(&b->c.intensity, n))
+		return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu intensities", n);
 	b->cap = n;
 	return DP_OK;
 }
@@ -97,6 +116,8 @@ dp_status dp_io_builder_add(dp_io_builder *b, float x, float y, float z, const f
 	}
 	if (b->colours)
 		memset(b->c.rgb + 3 * i, 0, 3);
+	if (b->intensities)
+		b->c.intensity[i] = 0.0f;
 	return DP_OK;
 }
 
@@ -159,6 +180,9 @@ dp_status dp_io_builder_finish(dp_io_builder *b, const char *path, dp_cloud *clo
 						  b->normals ? normal : NULL, err);
 		if (st != DP_OK)
 			return st;
+		if (b->intensities && !isfinite(c->intensity[i]))
+			return dp_fail(err, DP_ERR_FORMAT, "%s: point %zu (counting from 0) has a non-finite intensity",
+				       path, i);
 	}
 	for (size_t i = 0; i < 3 * c->nfaces; i++)
 		if (c->faces[i] >= c->n)
@@ -173,6 +197,7 @@ dp_status dp_io_builder_finish(dp_io_builder *b, const char *path, dp_cloud *clo
 	c->ny = trimmed(c->ny, bytes);
 	c->nz = trimmed(c->nz, bytes);
 	c->rgb = trimmed(c->rgb, 3 * c->n);
+	c->intensity = trimmed(c->intensity, bytes);
 	if (c->nfaces == 0) {
 		free(c->faces);
 		c->faces = NULL;

@@ -115,6 +115,7 @@ typedef struct dp_io_builder {
 	size_t face_cap;     /* triangles allocated */
 	int normals;         /* points carry normals */
 	int colours;         /* points carry colours (c.rgb, 3 bytes each) */
+	int intensities;     /* points carry an intensity (c.intensity) */
 } dp_io_builder;
 
 /* A polygon being fanned into triangles (v0, v[i-1], v[i]). */
@@ -130,6 +131,9 @@ dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err);
  * point's colour is then set with dp_io_builder_set_rgb (black otherwise). */
 dp_status dp_io_builder_want_colours(dp_io_builder *b, dp_error *err);
 void dp_io_builder_set_rgb(dp_io_builder *b, size_t index, const unsigned char rgb[3]);
+/* The same for intensities (0 until set). */
+dp_status dp_io_builder_want_intensity(dp_io_builder *b, dp_error *err);
+void dp_io_builder_set_intensity(dp_io_builder *b, size_t index, float value);
 /* Allocates room for n points (a count already checked against the file). */
 dp_status dp_io_builder_reserve(dp_io_builder *b, size_t n, dp_error *err);
 /* Appends a point; `normal` is ignored unless the builder has normals. */

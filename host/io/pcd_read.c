@@ -15,9 +15,10 @@
 
 /* PCD_RGB holds PCL's packed colour, 0x00RRGGBB ("rgb", a float's bits) or
  * 0xAARRGGBB ("rgba", an unsigned int): its bits travel in the float slot. */
-enum pcd_role { PCD_X, PCD_Y, PCD_Z, PCD_NX, PCD_NY, PCD_NZ, PCD_RGB, PCD_ROLES };
+enum pcd_role { PCD_X, PCD_Y, PCD_Z, PCD_NX, PCD_NY, PCD_NZ, PCD_RGB, PCD_I, PCD_ROLES };
 
-static const char *const pcd_role_names[PCD_ROLES] = {"x", "y", "z", "normal_x", "normal_y", "normal_z", "rgb"};
+static const char *const pcd_role_names[PCD_ROLES] = {"x",	  "y",	 "z",	 "normal_x",
+						      "normal_y", "normal_z", "rgb", "intensity"};
 
 enum pcd_data { PCD_NO_DATA, PCD_ASCII, PCD_BINARY };
 
@@ -227,6 +228,8 @@ static dp_status add_point(dp_io_stream *s, dp_io_builder *b, uint64_t index, co
 		unsigned char rgb[3] = {(unsigned char)(packed >> 16), (unsigned char)(packed >> 8), (unsigned char)packed};
 		dp_io_builder_set_rgb(b, b->c.n - 1, rgb);
 	}
+	if (st == DP_OK && b->intensities)
+		dp_io_builder_set_intensity(b, b->c.n - 1, v[PCD_I]);
 	return st;
 }
 
@@ -355,6 +358,8 @@ dp_status dp_io_read_pcd(dp_io_stream *s, dp_io_builder *b, int flags, dp_error 
 	if (h.normals && (st = dp_io_builder_want_normals(b, err)) != DP_OK)
 		return st;
 	if (h.role_field[PCD_RGB] >= 0 && (st = dp_io_builder_want_colours(b, err)) != DP_OK)
+		return st;
+	if (h.role_field[PCD_I] >= 0 && (st = dp_io_builder_want_intensity(b, err)) != DP_OK)
 		return st;
 	if (h.points > SIZE_MAX)
 		return dp_fail(err, DP_ERR_FORMAT, "%s: too many points", s->path);

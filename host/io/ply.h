@@ -17,7 +17,7 @@ enum ply_format { PLY_ASCII, PLY_BINARY_LE, PLY_BINARY_BE };
  * edge end. */
 enum ply_role {
 	ROLE_NONE = -1, ROLE_X, ROLE_Y, ROLE_Z, ROLE_NX, ROLE_NY, ROLE_NZ, ROLE_FACE, ROLE_EDGE1, ROLE_EDGE2,
-	ROLE_RED, ROLE_GREEN, ROLE_BLUE, ROLE_COUNT
+	ROLE_RED, ROLE_GREEN, ROLE_BLUE, ROLE_INTENSITY, ROLE_COUNT
 };
 
 typedef struct ply_type {
@@ -46,6 +46,7 @@ typedef struct ply_header {
 	int vertex;          /* index of the vertex element */
 	int normals;         /* the vertex element has nx, ny and nz */
 	int colours;         /* the vertex element has red, green and blue */
+	int intensity;       /* the vertex element has intensity (or CloudCompare's scalar_intensity) */
 } ply_header;
 
 /* Parses the header up to end_header: elements, properties and their roles

@@ -3,6 +3,7 @@
 #include "core/common.h"
 
 #include <string.h>
+#include <strings.h>
 
 /* "property list uchar int vertex_indices" has the most tokens of any line. */
 #define PLY_MAX_TOKENS 6
@@ -78,6 +79,8 @@ static dp_status add_property(dp_io_stream *s, ply_header *h, char **tok, int nt
 			p->role = ROLE_GREEN;
 		else if (strcmp(colour, "blue") == 0)
 			p->role = ROLE_BLUE;
+		else if (strcasecmp(name, "intensity") == 0 || strcasecmp(name, "scalar_intensity") == 0)
+			p->role = ROLE_INTENSITY;
 	}
 	if (strcmp(el->name, "face") == 0 && p->is_list &&
 	    (strcmp(name, "vertex_indices") == 0 || strcmp(name, "vertex_index") == 0))
@@ -158,6 +161,9 @@ static dp_status check_vertex(dp_io_stream *s, ply_header *h, dp_error *err)
 		if (el->props[i].role >= ROLE_RED && el->props[i].role <= ROLE_BLUE)
 			colours[el->props[i].role - ROLE_RED] = 1;
 	h->colours = colours[0] && colours[1] && colours[2];
+	h->intensity = 0;
+	for (int i = 0; i < el->nprops; i++)
+		h->intensity |= el->props[i].role == ROLE_INTENSITY;
 	return DP_OK;
 }
 

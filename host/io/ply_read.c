@@ -224,6 +224,8 @@ static dp_status read_row(ply_source *src, int is_vertex, dp_error *err)
 		dp_status st = dp_io_builder_add(src->b, (float)v[ROLE_X], (float)v[ROLE_Y], (float)v[ROLE_Z], normal, err);
 		if (st == DP_OK && src->b->colours)
 			set_colour(src, v + ROLE_RED);
+		if (st == DP_OK && src->b->intensities)
+			dp_io_builder_set_intensity(src->b, src->b->c.n - 1, (float)v[ROLE_INTENSITY]);
 		return st;
 	}
 	if (src->edges && strcmp(el->name, "edge") == 0)
@@ -238,6 +240,8 @@ static dp_status read_data(ply_source *src, const ply_header *h, dp_error *err)
 	if (h->normals && (st = dp_io_builder_want_normals(src->b, err)) != DP_OK)
 		return st;
 	if (h->colours && (st = dp_io_builder_want_colours(src->b, err)) != DP_OK)
+		return st;
+	if (h->intensity && (st = dp_io_builder_want_intensity(src->b, err)) != DP_OK)
 		return st;
 	for (int e = 0; e < h->nelements; e++) {
 		const ply_element *el = &h->elements[e];

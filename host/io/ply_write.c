@@ -182,11 +182,13 @@ dp_status dp_cloud_write_ply(const char *path, const dp_cloud *cloud, int ascii,
 {
 	if (!cloud)
 		return dp_fail(err, DP_ERR_ARG, "%s: cloud is NULL", path ? path : "dp_cloud_write_ply");
-	dp_ply_property props[6] = {
+	dp_ply_property props[7] = {
 		{"x", cloud->x}, {"y", cloud->y}, {"z", cloud->z},
 		{"nx", cloud->nx}, {"ny", cloud->ny}, {"nz", cloud->nz},
 	};
 	size_t nprops = cloud->nx ? 6 : 3;
+	if (cloud->intensity)
+		props[nprops++] = (dp_ply_property){"intensity", cloud->intensity};
 	size_t nfaces = cloud->faces ? cloud->nfaces : 0;
 	return dp_io_ply_write_rgb(path, cloud->n, props, nprops, cloud->rgb, NULL, 0, cloud->faces, nfaces, ascii, err);
 }

@@ -348,9 +348,11 @@ dp_status dp_result_write(const dp_result *r, const char *dir, const dp_write_op
 	const dp_ply_property surface_props[] = {
 		{"x", r->surface.x},   {"y", r->surface.y},   {"z", r->surface.z},
 		{"nx", r->surface.nx}, {"ny", r->surface.ny}, {"nz", r->surface.nz},
-		{"length", r->length}, {"eta", r->eta},
+		{"length", r->length}, {"eta", r->eta},	      {"intensity", r->surface.intensity},
 	};
-	if ((st = write_ply(&a, dir, "surface.ply", n, surface_props, 8, NULL, 0, ascii, err)) != DP_OK)
+	/* the input's intensities, when the caller carried them onto the surface */
+	size_t nsurface = r->surface.intensity ? 9 : 8;
+	if ((st = write_ply(&a, dir, "surface.ply", n, surface_props, nsurface, NULL, 0, ascii, err)) != DP_OK)
 		return st;
 	const dp_ply_property skeleton_props[] = {{"x", r->skeleton.x}, {"y", r->skeleton.y}, {"z", r->skeleton.z}};
 	if ((st = write_ply(&a, dir, "skeleton.ply", n, skeleton_props, 3, NULL, 0, ascii, err)) != DP_OK)

@@ -150,6 +150,8 @@ static dp_status add_row(xyz_reader *x, const float *v, int streamed, dp_error *
 		normal[2] = v[at[COL_NZ]];
 	}
 	dp_status st = dp_io_builder_add(x->b, v[at[COL_X]], v[at[COL_Y]], v[at[COL_Z]], normal, err);
+	if (st == DP_OK && at[COL_I] >= 0)
+		dp_io_builder_set_intensity(x->b, x->b->c.n - 1, v[at[COL_I]]);
 	if (st != DP_OK || at[COL_R] < 0)
 		return st;
 	unsigned char rgb[3];
@@ -191,6 +193,8 @@ static dp_status decide(xyz_reader *x, dp_error *err)
 			return st;
 	}
 	if (x->at[COL_NX] >= 0 && (st = dp_io_builder_want_normals(x->b, err)) != DP_OK)
+		return st;
+	if (x->at[COL_I] >= 0 && (st = dp_io_builder_want_intensity(x->b, err)) != DP_OK)
 		return st;
 	if ((st = dp_io_builder_reserve(x->b, x->n, err)) != DP_OK)
 		return st;
