@@ -3,6 +3,18 @@
 /* Same value as DP_SINK_NO_FRONT (host/backend/sink_ops.h). */
 #define SINK_NO_FRONT 2.0f
 
+/* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl),
+ * pairs outside a sum masked by select. */
+#define SINK_FRONT_BODY(T, LOAD, k, live, s)                                                   \
+	{                                                                                      \
+		T dx = ax - LOAD(gx, k), dy = ay - LOAD(gy, k), dz = az - LOAD(gz, k);        \
+		T ex = bx - LOAD(sx, k), ey = by - LOAD(sy, k), ez = bz - LOAD(sz, k);        \
+		T dot = mx * LOAD(nx, k) + my * LOAD(ny, k) + mz * LOAD(nz, k);               \
+		best##s = select(best##s, fmin(best##s, dot),                                  \
+				 (live) & (dx * dx + dy * dy + dz * dz < r2) &                  \
+					 (ex * ex + ey * ey + ez * ez > far_d2));               \
+	}
+
 __kernel void sink_front(const uint n, __global const float *qx, __global const float *qy,
 			 __global const float *qz, __global const float *px, __global const float *py,
 			 __global const float *pz, __global const float *qnx, __global const float *qny,
@@ -17,17 +29,20 @@ __kernel void sink_front(const uint n, __global const float *qx, __global const 
 	float ax = qx[i], ay = qy[i], az = qz[i];
 	float bx = px[i], by = py[i], bz = pz[i];
 	float mx = qnx[i], my = qny[i], mz = qnz[i];
-	float r2 = radius * radius, best = SINK_NO_FRONT;
-	GRID_FOR(ax, ay, az, k)
-		float dx = ax - gx[k], dy = ay - gy[k], dz = az - gz[k];
-		if (dx * dx + dy * dy + dz * dz < r2) {
-			float ex = bx - sx[k], ey = by - sy[k], ez = bz - sz[k];
-			if (ex * ex + ey * ey + ez * ez > far_d2)
-				best = fmin(best, mx * nx[k] + my * ny[k] + mz * nz[k]);
-		}
-	GRID_FOR_END
-	min_dot[i] = best;
+	float r2 = radius * radius;
+	LANE_T best_v = SINK_NO_FRONT;
+	float best_s = SINK_NO_FRONT;
+	GRID_PAIRS(ax, ay, az, SINK_FRONT_BODY)
+	min_dot[i] = fmin(LANE_MIN(best_v), best_s);
 }
+
+#define SINK_STEP_BODY(T, LOAD, k, live, s)                                                    \
+	{                                                                                      \
+		T dx = ax - LOAD(gx, k), dy = ay - LOAD(gy, k), dz = az - LOAD(gz, k);        \
+		T one = select((T)0.0f, (T)1.0f, (live) & (dx * dx + dy * dy + dz * dz < r2));  \
+		sum##s += one * LOAD(move, k);                                                 \
+		count##s += one;                                                               \
+	}
 
 __kernel void sink_step(const uint n, __global const float *px, __global const float *py,
 			__global const float *pz, GRID_ARGS, __global const float *move, const float radius,
@@ -37,16 +52,27 @@ __kernel void sink_step(const uint n, __global const float *px, __global const f
 	if (i >= n)
 		return;
 	float ax = px[i], ay = py[i], az = pz[i];
-	float r2 = radius * radius, sum = 0.0f, count = 0.0f;
-	GRID_FOR(ax, ay, az, k)
-		float dx = ax - gx[k], dy = ay - gy[k], dz = az - gz[k];
-		if (dx * dx + dy * dy + dz * dz < r2) {
-			sum += move[k];
-			count += 1.0f;
-		}
-	GRID_FOR_END
+	float r2 = radius * radius;
+	LANE_T sum_v = 0.0f, count_v = 0.0f;
+	float sum_s = 0.0f, count_s = 0.0f;
+	GRID_PAIRS(ax, ay, az, SINK_STEP_BODY)
+	float sum = LANE_SUM(sum_v) + sum_s, count = LANE_SUM(count_v) + count_s;
 	mean[i] = count > 0.0f ? sum / count : 0.0f;
 }
+
+/* d² enters exp clamped to the radius: the far lanes' exp would give
+ * denormals, which are slow. */
+#define SINK_SMOOTH_BODY(T, LOAD, k, live, s)                                                  \
+	{                                                                                      \
+		T dx = ax - LOAD(gx, k), dy = ay - LOAD(gy, k), dz = az - LOAD(gz, k);        \
+		T d2 = dx * dx + dy * dy + dz * dz;                                            \
+		T u = (1.0f - (mx * LOAD(nx, k) + my * LOAD(ny, k) + mz * LOAD(nz, k))) * phi_scale; \
+		T w = select((T)0.0f, exp(-fmin(d2, r2) * inv_r2 - u * u), (live) & (d2 < r2)); \
+		sx##s += w * (LOAD(ix, k) - cx);                                               \
+		sy##s += w * (LOAD(iy, k) - cy);                                               \
+		sz##s += w * (LOAD(iz, k) - cz);                                               \
+		sw##s += w;                                                                    \
+	}
 
 __kernel void sink_smooth(const uint n, __global const float *px, __global const float *py,
 			  __global const float *pz, __global const float *qnx, __global const float *qny,
@@ -62,21 +88,12 @@ __kernel void sink_smooth(const uint n, __global const float *px, __global const
 	float ax = px[i], ay = py[i], az = pz[i];
 	float mx = qnx[i], my = qny[i], mz = qnz[i];
 	float cx = qx[i], cy = qy[i], cz = qz[i];
-	float r2 = radius * radius, sx = 0.0f, sy = 0.0f, sz = 0.0f, sw = 0.0f;
-	GRID_FOR(ax, ay, az, k)
-		float dx = ax - gx[k], dy = ay - gy[k], dz = az - gz[k];
-		float d2 = dx * dx + dy * dy + dz * dz;
-		if (d2 < r2) {
-			float u = (1.0f - (mx * nx[k] + my * ny[k] + mz * nz[k])) * phi_scale;
-			float w = exp(-d2 * inv_r2 - u * u);
-			sx += w * (ix[k] - cx);
-			sy += w * (iy[k] - cy);
-			sz += w * (iz[k] - cz);
-			sw += w;
-		}
-	GRID_FOR_END
-	out_x[i] = sx;
-	out_y[i] = sy;
-	out_z[i] = sz;
-	out_w[i] = sw;
+	float r2 = radius * radius;
+	LANE_T sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f, sw_v = 0.0f;
+	float sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f, sw_s = 0.0f;
+	GRID_PAIRS(ax, ay, az, SINK_SMOOTH_BODY)
+	out_x[i] = LANE_SUM(sx_v) + sx_s;
+	out_y[i] = LANE_SUM(sy_v) + sy_s;
+	out_z[i] = LANE_SUM(sz_v) + sz_s;
+	out_w[i] = LANE_SUM(sw_v) + sw_s;
 }

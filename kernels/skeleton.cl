@@ -1,6 +1,27 @@
 /* Meso-skeleton operators (DESIGN 4.2); the specification is
  * host/ref/skeleton_ref.c, the argument meaning host/backend/skeleton_ops.h. */
 
+/* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl),
+ * pairs outside a sum masked by select. */
+#define SKELETON_COV_BODY(T, LOAD, k, live, s)                                                 \
+	{                                                                                      \
+		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
+		T one = select((T)0.0f, (T)1.0f, (live) & (dx * dx + dy * dy + dz * dz < r2));  \
+		dx *= one;                                                                     \
+		dy *= one;                                                                     \
+		dz *= one;                                                                     \
+		c##s += one;                                                                   \
+		sx##s += dx;                                                                   \
+		sy##s += dy;                                                                   \
+		sz##s += dz;                                                                   \
+		sxx##s += dx * dx;                                                             \
+		sxy##s += dx * dy;                                                             \
+		sxz##s += dx * dz;                                                             \
+		syy##s += dy * dy;                                                             \
+		syz##s += dy * dz;                                                             \
+		szz##s += dz * dz;                                                             \
+	}
+
 __kernel void skeleton_cov(const uint n, __global const float *qx, __global const float *qy,
 			   __global const float *qz, GRID_ARGS, const float radius, __global float *count,
 			   __global float *cov)
@@ -10,23 +31,15 @@ __kernel void skeleton_cov(const uint n, __global const float *qx, __global cons
 		return;
 	float px = qx[i], py = qy[i], pz = qz[i];
 	float r2 = radius * radius;
-	float c = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
-	float sxx = 0.0f, sxy = 0.0f, sxz = 0.0f, syy = 0.0f, syz = 0.0f, szz = 0.0f;
-	GRID_FOR(px, py, pz, k)
-		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
-		if (dx * dx + dy * dy + dz * dz < r2) {
-			c += 1.0f;
-			sx += dx;
-			sy += dy;
-			sz += dz;
-			sxx += dx * dx;
-			sxy += dx * dy;
-			sxz += dx * dz;
-			syy += dy * dy;
-			syz += dy * dz;
-			szz += dz * dz;
-		}
-	GRID_FOR_END
+	LANE_T c_v = 0.0f, sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f;
+	LANE_T sxx_v = 0.0f, sxy_v = 0.0f, sxz_v = 0.0f, syy_v = 0.0f, syz_v = 0.0f, szz_v = 0.0f;
+	float c_s = 0.0f, sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f;
+	float sxx_s = 0.0f, sxy_s = 0.0f, sxz_s = 0.0f, syy_s = 0.0f, syz_s = 0.0f, szz_s = 0.0f;
+	GRID_PAIRS(px, py, pz, SKELETON_COV_BODY)
+	float c = LANE_SUM(c_v) + c_s;
+	float sx = LANE_SUM(sx_v) + sx_s, sy = LANE_SUM(sy_v) + sy_s, sz = LANE_SUM(sz_v) + sz_s;
+	float sxx = LANE_SUM(sxx_v) + sxx_s, sxy = LANE_SUM(sxy_v) + sxy_s, sxz = LANE_SUM(sxz_v) + sxz_s;
+	float syy = LANE_SUM(syy_v) + syy_s, syz = LANE_SUM(syz_v) + syz_s, szz = LANE_SUM(szz_v) + szz_s;
 	count[i] = c;
 	float inv = c > 0.0f ? 1.0f / c : 0.0f;
 	float mx = sx * inv, my = sy * inv, mz = sz * inv;
@@ -37,6 +50,17 @@ __kernel void skeleton_cov(const uint n, __global const float *qx, __global cons
 	cov[6 * i + 4] = syz * inv - my * mz;
 	cov[6 * i + 5] = szz * inv - mz * mz;
 }
+
+#define SKELETON_SEMIAXES_BODY(T, LOAD, k, live, s)                                            \
+	{                                                                                      \
+		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
+		T one = select((T)0.0f, (T)1.0f, (live) & (dx * dx + dy * dy + dz * dz < r2));  \
+		T nx = LOAD(gnx, k), ny = LOAD(gny, k), nz = LOAD(gnz, k);                     \
+		c##s += one;                                                                   \
+		s0##s += one * fabs(nx * v0x + ny * v0y + nz * v0z);                           \
+		s1##s += one * fabs(nx * v1x + ny * v1y + nz * v1z);                           \
+		s2##s += one * fabs(nx * v2x + ny * v2y + nz * v2z);                           \
+	}
 
 __kernel void skeleton_semiaxes(const uint n, __global const float *qx, __global const float *qy,
 				__global const float *qz, GRID_ARGS, __global const float *gnx,
@@ -52,17 +76,11 @@ __kernel void skeleton_semiaxes(const uint n, __global const float *qx, __global
 	float v0x = v[0], v0y = v[1], v0z = v[2], v1x = v[3], v1y = v[4], v1z = v[5];
 	float v2x = v[6], v2y = v[7], v2z = v[8];
 	float r2 = radius * radius;
-	float c = 0.0f, s0 = 0.0f, s1 = 0.0f, s2 = 0.0f;
-	GRID_FOR(px, py, pz, k)
-		float dx = gx[k] - px, dy = gy[k] - py, dz = gz[k] - pz;
-		if (dx * dx + dy * dy + dz * dz < r2) {
-			float nx = gnx[k], ny = gny[k], nz = gnz[k];
-			c += 1.0f;
-			s0 += fabs(nx * v0x + ny * v0y + nz * v0z);
-			s1 += fabs(nx * v1x + ny * v1y + nz * v1z);
-			s2 += fabs(nx * v2x + ny * v2y + nz * v2z);
-		}
-	GRID_FOR_END
+	LANE_T c_v = 0.0f, s0_v = 0.0f, s1_v = 0.0f, s2_v = 0.0f;
+	float c_s = 0.0f, s0_s = 0.0f, s1_s = 0.0f, s2_s = 0.0f;
+	GRID_PAIRS(px, py, pz, SKELETON_SEMIAXES_BODY)
+	float c = LANE_SUM(c_v) + c_s;
+	float s0 = LANE_SUM(s0_v) + s0_s, s1 = LANE_SUM(s1_v) + s1_s, s2 = LANE_SUM(s2_v) + s2_s;
 	float inv = c > 0.0f ? 1.0f / c : 0.0f;
 	semi[3 * i + 0] = 1.0f / (s0 * inv + eps);
 	semi[3 * i + 1] = 1.0f / (s1 * inv + eps);
