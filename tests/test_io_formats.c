@@ -91,6 +91,12 @@ static void test_gzip_every_format(void **state)
 				continue; /* the seeds that fail to read are covered by the fuzz replay */
 			size_t size, gz_size = 0, two_size = 0;
 			unsigned char *data = slurp(path, &size), *gz = NULL, *two = NULL;
+			if (size >= 2 && data[0] == 0x1f && data[1] == 0x8b) {
+				/* a compressed seed: one layer of gzip is what is read */
+				free(data);
+				dp_cloud_free(&plain);
+				continue;
+			}
 			gzip_append(data, size, &gz, &gz_size);
 			gzip_append(data, size / 2, &two, &two_size);
 			gzip_append(data + size / 2, size - size / 2, &two, &two_size);
