@@ -178,5 +178,11 @@ SLURM_ARRAY_TASK_ID=3 SLURM_ARRAY_TASK_COUNT=3 "$dpoints" consolidate --inputs "
 one_error_line bad_slurm 2 "SLURM_ARRAY_TASK_ID=3" "--shard"
 run no_list consolidate --inputs "$tmp/missing.txt" -o "$tmp/x"
 one_error_line no_list 2 "missing.txt" "cannot open"
-[ ! -e "$tmp/x" ] && [ ! -e "$tmp/shards" ] || fail "a refused or all-failed run left its output folder"
+[ ! -e "$tmp/x" ] || fail "a refused run left its output folder"
+# a shard whose inputs all failed keeps their records for `summary`
+[ -s "$tmp/shards/c.failed.json" ] && [ -s "$tmp/shards/g.failed.json" ] && ok "failed shards leave their records" ||
+	fail "failed shards: $(ls "$tmp/shards" 2>&1)"
+run sumshards summary "$tmp/shards"
+[ "$status" -eq 1 ] && grep -q "FAILED: .*none/c.xyz" "$tmp/sumshards.out" && ok "summary lists the shards' failures" ||
+	fail "summary of failed shards: status $status $(cat "$tmp/sumshards.out")"
 finish

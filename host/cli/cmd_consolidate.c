@@ -324,8 +324,10 @@ static int run_batch(const char *cmd, dp_consolidate_job *job, int backend, int 
 			dp_cli_print_batch_summary(stdout, inputs, summary, ninputs);
 		if (b.failed && batch)
 			fprintf(stderr, "dpoints %s: %zu of %zu inputs failed\n", cmd, b.failed, ninputs);
-		/* a run that produced nothing leaves nothing: rmdir only removes it empty */
-		if (ninputs && b.failed == ninputs && !outdir_existed) {
+		/* a run that produced nothing leaves nothing (rmdir only removes it
+		 * empty); not a shard, whose siblings may be writing there and whose
+		 * failure records the summary needs */
+		if (ninputs && b.failed == ninputs && !outdir_existed && nshards == 1) {
 			for (size_t k = 0; k < ninputs; k++)
 				dp_cli_clear_failure(dirs[k]);
 			rmdir(outdir);
