@@ -190,7 +190,11 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "default count: max(ratio * input, this), at most the distinct input points", NULL, NULL},
 		{"--data-term", CLI_CHOICE, &data_term,
 		 "surface data term along the normal (DESIGN 4.3) or as Eq. 6 is printed", "normal|full", NULL},
-		CLI_BACKEND_OPTS(backend, device),
+		{"--backend", CLI_CHOICE, &backend, "kernels on an OpenCL device, or the scalar reference", "cl|ref", NULL},
+		{"--device", CLI_STRING, &device,
+		 "OpenCL device: index or name substring from `dpoints devices` (env DPOINTS_DEVICE); a batch also takes "
+		 "all, or a list such as 0,1: one worker per entry",
+		 NULL, NULL},
 		{"--save-stages", CLI_FLAG, &job.save_stages, "also write wlop.ply and anchors.ply", NULL, NULL},
 		{"--render", CLI_FLAG, &job.render, "also render input, skeleton, surface and deep points to PNGs",
 		 NULL, NULL},
