@@ -144,12 +144,13 @@ def _array(buf, dtype, shape):
 
 class Cloud:
     """Points read from a file: .points (N, 3) float32, .normals (N, 3) or
-    None, .faces (F, 3) uint32 or None (meshes)."""
+    None, .faces (F, 3) uint32 or None (meshes), .colors (N, 3) uint8 or None."""
 
     def __init__(self, d):
         self.points = _array(d["points"], np.float32, (-1, 3))
         self.normals = _array(d["normals"], np.float32, (-1, 3))
         self.faces = _array(d["faces"], np.uint32, (-1, 3))
+        self.colors = _array(d["colors"], np.uint8, (-1, 3))
 
     def __len__(self):
         return len(self.points)
@@ -183,6 +184,8 @@ class Result:
         self.skeleton = _array(a["skeleton"], np.float32, (-1, 3))
         self.length = _array(a["length"], np.float32, (-1,))
         self.eta = _array(a["eta"], np.float32, (-1,))
+        # colours of the input carried to the surface; None for uncoloured input
+        self.colors = _array(a["colors"], np.uint8, (-1, 3))
         self.wlop = Cloud(a["wlop"])
         self.anchors = Cloud(a["anchors"])
         self.r = a["r"]

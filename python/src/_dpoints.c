@@ -322,12 +322,13 @@ static PyObject *bytes_of(const void *data, size_t size)
 	return PyByteArray_FromStringAndSize(data, (Py_ssize_t)size);
 }
 
-/* {"points", "normals", "faces"} of a cloud */
+/* {"points", "normals", "faces", "colors"} of a cloud */
 static PyObject *cloud_dict(const dp_cloud *c)
 {
-	return Py_BuildValue("{s:N,s:N,s:N}", "points", triples(c->x, c->y, c->z, c->n), "normals",
+	return Py_BuildValue("{s:N,s:N,s:N,s:N}", "points", triples(c->x, c->y, c->z, c->n), "normals",
 			     triples(c->nx, c->ny, c->nz, c->n), "faces",
-			     c->faces ? bytes_of(c->faces, 3 * c->nfaces * sizeof(uint32_t)) : Py_BuildValue(""));
+			     c->faces ? bytes_of(c->faces, 3 * c->nfaces * sizeof(uint32_t)) : Py_BuildValue(""),
+			     "colors", bytes_of(c->rgb, 3 * c->n));
 }
 
 static PyObject *py_read(PyObject *self, PyObject *args)
@@ -426,7 +427,8 @@ static PyObject *py_result_arrays(PyObject *self, PyObject *args)
 	if (!r)
 		return NULL;
 	size_t n = r->surface.n;
-	return Py_BuildValue("{s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:d}", "surface",
+	return Py_BuildValue("{s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:d}", "colors", bytes_of(r->surface.rgb, 3 * n),
+			     "surface",
 			     triples(r->surface.x, r->surface.y, r->surface.z, n), "normals",
 			     triples(r->surface.nx, r->surface.ny, r->surface.nz, n), "skeleton",
 			     triples(r->skeleton.x, r->skeleton.y, r->skeleton.z, n), "length",

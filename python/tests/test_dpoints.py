@@ -152,6 +152,15 @@ def test_write_and_read_back(tmp_path):
     assert report["input"] == "torus" and "wlop.ply" in report["files"]
     mesh = dpoints.read(out / "dpoints.ply", mesh=True)
     assert len(mesh) == 2 * len(res)
+    assert res.colors is None and surface.colors is None
+
+
+def test_read_colours(tmp_path):
+    src = tmp_path / "c.xyz"
+    src.write_text("0 0 0 255 0 0\n1 0 0 0 255 0\n0 1 0 0 0 255\n0 0 1 10 20 30\n")
+    c = dpoints.read(src)
+    assert c.colors.dtype == np.uint8
+    np.testing.assert_array_equal(c.colors[3], [10, 20, 30])
 
 
 def test_progress_and_cancel():
@@ -186,23 +195,33 @@ def _long_run_seconds():
 
 def test_ctrl_c_stops_a_run():
     full = _long_run_seconds()
+    pts = torus(20000)
     timer = threading.Timer(0.3, os.kill, (os.getpid(), signal.SIGINT))
     t = time.perf_counter()
     timer.start()
-    with pytest.raises(KeyboardInterrupt):
-        dpoints.consolidate(torus(20000), samples=8000)
+    try:
+        with pytest.raises(KeyboardInterrupt):
+            dpoints.consolidate(pts, samples=8000)
+            time.sleep(5)  # finished first: let the signal land here rather than in pytest
+    finally:
+        timer.cancel()
+        timer.join()
     took = time.perf_counter() - t
-    timer.join()
     assert took < 0.3 + max(1.0, full / 2), (took, full)
 
 
 def test_gil_released_during_a_run():
     ticks = []
     done = threading.Event()
+    failed = []
 
     def run():
-        dpoints.consolidate(torus(20000), samples=8000)
-        done.set()
+        try:
+            dpoints.consolidate(torus(20000), samples=8000)
+        except BaseException as e:  # reported below: a thread's exception would be lost
+            failed.append(e)
+        finally:
+            done.set()
 
     th = threading.Thread(target=run)
     th.start()
@@ -210,6 +229,7 @@ def test_gil_released_during_a_run():
         ticks.append(time.perf_counter())
         time.sleep(0.01)
     th.join()
+    assert not failed, failed
     # the main thread ran all along, not only before and after
     assert len(ticks) > 20
 
