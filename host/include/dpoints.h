@@ -260,7 +260,7 @@ typedef enum dp_wlop_weight {
 
 /*
  * Defaults are those measured to denoise and even out best the noisy
- * sphere (cgal/sphere_20k.xyz, 21000 -> 2100: radial std 0.0040, NN-spacing
+ * sphere (CGAL's sphere_20k, 21000 -> 2100: radial std 0.0040, NN-spacing
  * variation 0.13, 30 iterations): the Gaussian mean with theta_k = 4 and
  * h = 5 x the initial samples' spacing, as in CGAL (the authors' tool). Huang
  * et al.'s L1 weight with theta_k = 16 (weight = DP_WLOP_L1, theta_k = 16)
