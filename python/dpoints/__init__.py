@@ -18,6 +18,7 @@ import inspect
 import json
 import os
 import threading
+import time
 
 import numpy as np
 
@@ -131,9 +132,14 @@ def _context(backend, device):
 
 
 def _progress_arg(progress):
-    if progress is not None and not callable(progress):
+    if progress is None:
+        return None
+    if not callable(progress):
         raise TypeError("progress must be callable(stage, iteration, value, elapsed) or None")
-    return progress
+    # the library counts from the context's creation; contexts are kept, so
+    # count from this call instead
+    start = time.perf_counter()
+    return lambda stage, iteration, value, elapsed: progress(stage, iteration, value, time.perf_counter() - start)
 
 
 def _array(buf, dtype, shape):
@@ -211,8 +217,9 @@ class Result:
 
 
 def _signature(extra):
-    params = [inspect.Parameter("points", inspect.Parameter.POSITIONAL_OR_KEYWORD)]
-    params += [inspect.Parameter(k, inspect.Parameter.KEYWORD_ONLY, default=v) for k, v in extra]
+    pk, kw = inspect.Parameter.POSITIONAL_OR_KEYWORD, inspect.Parameter.KEYWORD_ONLY
+    params = [inspect.Parameter("points", pk)]
+    params += [inspect.Parameter(k, pk if k == "samples" else kw, default=v) for k, v in extra]
     return params
 
 
@@ -225,8 +232,10 @@ def consolidate(points, samples=None, *, device=None, backend="cl", progress=Non
     the input, 4000) at most its distinct points). device: an OpenCL device
     index or name substring (dpoints.devices()), None for $DPOINTS_DEVICE or
     the first. backend: "cl" or "ref" (the scalar reference, slow).
-    progress: called as progress(stage, iteration, value, elapsed) after
-    every iteration; a true return value stops the run (Cancelled).
+    progress: called as progress(stage, iteration, value, seconds) after
+    every iteration of every stage (value: WLOP and skeleton/surface mean
+    move in h or r, sinking settled points; seconds since the call began);
+    a true return value stops the run (Cancelled).
     Every other keyword is a libdpoints parameter, STAGE_FIELD, with the
     library's default (dpoints.default_params() lists them).
     """

@@ -165,8 +165,9 @@ def test_read_colours(tmp_path):
 
 def test_progress_and_cancel():
     pts = torus()
-    seen = []
-    dpoints.consolidate(pts, progress=lambda *a: seen.append(a[0]), **SMALL)
+    seen, times = [], []
+    dpoints.consolidate(pts, progress=lambda s, i, v, t: (seen.append(s), times.append(t)) and None, **SMALL)
+    assert 0 <= times[0] <= times[-1] < 60
     assert [s for i, s in enumerate(seen) if i == 0 or seen[i - 1] != s][:4] == \
         ["wlop", "sink", "skeleton", "surface"]
 
