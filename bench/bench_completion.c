@@ -4,6 +4,7 @@
  * backend only: this measures quality, bench_stages compares the backends.
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
+ *                    [--coarse N]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -327,7 +328,7 @@ int main(int argc, char **argv)
 	opts = &o;
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue] "
-				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]\n");
+				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;

@@ -65,15 +65,17 @@ static int parse_samples(const char *text, size_t *count, double *factor)
 	char *end;
 	if (text[0] < '0' || text[0] > '9')
 		return -1;
+	errno = 0;
 	double v = strtod(text, &end);
 	if ((end[0] == 'x' || end[0] == 'X') && end[1] == '\0') {
-		if (!(v > 0.0) || !isfinite(v))
+		if (!(v > 0.0) || !isfinite(v) || errno == ERANGE)
 			return -1;
 		*factor = v;
 		return 0;
 	}
+	errno = 0;
 	unsigned long long n = strtoull(text, &end, 10);
-	if (*end || n == 0)
+	if (*end || n == 0 || errno == ERANGE)
 		return -1;
 	*count = (size_t)n;
 	return 0;

@@ -32,8 +32,12 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 	int rc;
 	summary->points_in = in->n;
 	dp_params params = job->params;
-	if (job->samples_factor > 0.0)
-		params.wlop.samples = (size_t)fmax(1.0, round(job->samples_factor * (double)in->n));
+	if (job->samples_factor > 0.0) {
+		/* beyond 32-bit indices the pipeline refuses the count; converting
+		 * a larger double to size_t would be undefined */
+		double want = fmax(1.0, round(job->samples_factor * (double)in->n));
+		params.wlop.samples = want <= (double)UINT32_MAX ? (size_t)want : (size_t)UINT32_MAX + 1;
+	}
 	if (job->progress)
 		job->progress->params = &params;
 	dp_status cst = dp_consolidate(ctx, in, &params, res, &err);

@@ -70,6 +70,8 @@ static uint32_t position_hash(float x, float y, float z)
  * and ~40 bytes a point of choose_samples. */
 dp_status dp_distinct_upto(const dp_cloud *in, size_t m, size_t *found, dp_error *err)
 {
+	if (m > in->n)
+		m = in->n; /* no more to find, and 2 m cannot wrap */
 	size_t cap = 16;
 	while (cap < 2 * m)
 		cap *= 2;

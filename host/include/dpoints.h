@@ -614,12 +614,13 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * runs WLOP, sinking, the meso-skeleton and the surface stage on
  * coarse_samples deep points, where holes are few r across, then grows the
  * set level by level, by level_factor per level, to the requested count: each
- * level inserts surface points at the midpoints of the longest tangent-plane
- * edges between same-sided neighbours (an inner end and a normal interpolated
- * from the two ends) and relaxes the whole set for level_iters surface
- * iterations at the level's own spacing r. Work grows about linearly with the
- * count, coverage no longer depends on it, and the count may exceed the
- * input's (upsampling, paper Fig. 15).
+ * level inserts surface points at midpoints of tangent-plane edges between
+ * same-sided neighbours, every edge spanning a gap and an even random choice
+ * of the others (an inner end and a normal interpolated from the two ends),
+ * and relaxes the whole set for level_iters surface iterations at the level's
+ * own spacing r. Work grows about linearly with the count and the count may
+ * exceed the input's (upsampling, paper Fig. 15). The coarse level holds at
+ * most the input's distinct positions.
  */
 #define DP_MAX_LEVELS 12
 
@@ -641,7 +642,8 @@ DP_API void dp_refine_params_default(dp_refine_params *p);
 /* One level of the coarse-to-fine surface: its size and what relaxing it cost. */
 typedef struct dp_level_stats {
 	size_t points;
-	double r;                 /* the level's spacing (Eq. 1 over its surface points) */
+	double r;                 /* the r the level ran at (Eq. 1: the coarse level's WLOP samples, a refined
+	                             level's points just after insertion) */
 	int iterations;
 	double seconds;
 	double pair_evaluations;
@@ -675,7 +677,8 @@ typedef struct dp_result {
 	dp_cloud surface;   /* P: consolidated, completed surface with normals */
 	float *eta;         /* n: input support η of each surface point (1 = no input near) */
 	float *length;      /* n: dpoint length |p_i - q_i| */
-	double r;           /* mean NN spacing of the final surface points (paper Eq. 1) */
+	double r;           /* the spacing r the last level ran at (paper Eq. 1): the WLOP samples' with one
+	                       level, else the level's points' just after insertion */
 	size_t points_in;
 	int levels;         /* surface levels run: 1 = no refinement */
 	dp_level_stats level[DP_MAX_LEVELS]; /* level 0 is the coarse one */

@@ -32,13 +32,23 @@ void dp_refine_params_default(dp_refine_params *p)
  * dp_refine_params. */
 static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t *m, dp_error *err)
 {
+	if (!(p->refine.level_factor > 1.0 && isfinite(p->refine.level_factor)) || p->refine.level_iters < 1)
+		return dp_fail(err, DP_ERR_ARG, "level factor %g (must be > 1) or level iterations %d (must be >= 1) "
+			       "out of range", p->refine.level_factor, p->refine.level_iters);
 	if (p->wlop.samples) {
+		if (p->wlop.samples > UINT32_MAX)
+			return dp_fail(err, DP_ERR_ARG, "%zu deep points: more than 32-bit indices reach",
+				       p->wlop.samples);
 		*m = p->wlop.samples;
 		return DP_OK;
 	}
+	if (!(p->wlop.ratio > 0.0 && p->wlop.ratio <= 1.0))
+		return dp_fail(err, DP_ERR_ARG, "sample ratio %g is not in (0, 1]", p->wlop.ratio);
 	size_t want = (size_t)llround(p->wlop.ratio * (double)input->n), distinct = 0;
 	if (want < p->refine.samples_floor)
 		want = p->refine.samples_floor;
+	if (want > input->n)
+		want = input->n;
 	dp_status st = dp_distinct_upto(input, want, &distinct, err);
 	if (st != DP_OK)
 		return st;
@@ -91,10 +101,10 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 	dp_cloud out = {0};
 	for (int l = 1; l < levels; l++) {
 		size_t added = 0;
-		dp_status st = dp_refine_insert(&res->surface, &res->skeleton, counts[l], res->r, &added, err);
+		dp_status st = dp_refine_insert(&res->surface, &res->skeleton, counts[l], &added, err);
 		if (st == DP_OK && res->surface.n < counts[l])
-			st = dp_fail(err, DP_ERR_ARG, "refine: room for only %zu of %zu points", res->surface.n,
-				     counts[l]);
+			st = dp_fail(err, DP_ERR_ARG, "refine: insertion found places for only %zu of %zu points",
+				     res->surface.n, counts[l]);
 		if (st == DP_OK)
 			st = dp_mean_spacing(res->surface.n, res->surface.x, res->surface.y, res->surface.z, &res->r,
 					     err);
@@ -161,8 +171,16 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "deep-point count");
 		goto fail;
 	}
-	int levels = dp_refine_levels(params->refine.coarse_samples, target, params->refine.level_factor, counts,
-				      DP_MAX_LEVELS);
+	/* The coarse level comes from WLOP, so it can hold at most the input's
+	 * distinct positions; the levels above it may exceed them (upsampling). */
+	size_t coarse_count = params->refine.coarse_samples, distinct = 0;
+	if (coarse_count && (st = dp_distinct_upto(input, coarse_count, &distinct, err)) != DP_OK) {
+		in_stage(err, st, "deep-point count");
+		goto fail;
+	}
+	if (coarse_count && distinct < coarse_count)
+		coarse_count = distinct;
+	int levels = dp_refine_levels(coarse_count, target, params->refine.level_factor, counts, DP_MAX_LEVELS);
 	dp_wlop_params wp = params->wlop;
 	wp.samples = counts[0];
 	st = dp_wlop(ctx, input, &wp, &res->wlop, &res->wlop_stats, err);

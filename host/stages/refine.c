@@ -1,9 +1,12 @@
 /* Point insertion for the coarse-to-fine surface. Midpoints of the edges of
  * a nearest-neighbour graph are what subdivision of a triangulation inserts:
- * about three per point, each at least half an edge from the ends. Taking the
- * longest edges first puts new points where the tangent-plane spacing is
- * largest, as EAR (Huang et al. 2013) inserts into the largest empty circle;
- * the surface stage then relaxes the set at the new spacing. */
+ * about three per point, each at least half an edge from the ends. Edges
+ * much longer than the median span gaps, where the tangent-plane spacing is
+ * largest, and are always split, as EAR (Huang et al. 2013) inserts into the
+ * largest empty circle first; the rest are chosen evenly at random, so a
+ * level that adds less than a full subdivision does not leave a density step
+ * between regions. The surface stage then relaxes the set at the new
+ * spacing. */
 #include "stages/refine.h"
 
 #include "core/common.h"
@@ -183,8 +186,9 @@ static size_t choose(uint32_t *chosen, size_t count, size_t long_count, size_t k
 	return keep;
 }
 
-/* One pass: inserts up to target - n midpoints. */
-static dp_status insert_pass(dp_cloud *s, dp_cloud *k, size_t target, double r, size_t *added, dp_error *err)
+/* One pass: inserts up to target - n midpoints, the gap test at the current
+ * spacing (Eq. 1 from the pass's own nearest neighbours). */
+static dp_status insert_pass(dp_cloud *s, dp_cloud *k, size_t target, size_t *added, dp_error *err)
 {
 	size_t n = s->n, ne = 0;
 	*added = 0;
@@ -203,16 +207,22 @@ static dp_status insert_pass(dp_cloud *s, dp_cloud *k, size_t target, double r, 
 	while (buckets < 2 * all)
 		buckets <<= 1;
 	hash h = {dp_alloc_array(buckets, sizeof(uint32_t)), dp_alloc_array(all, sizeof(uint32_t)),
-		  (uint32_t)(buckets - 1), (float)(MIN_GAP_R * r)};
+		  (uint32_t)(buckets - 1), 0.0f};
 	dp_status st = DP_OK;
 	if (!idx || !d2 || !edges || !chosen || !order || !h.head || !h.next ||
-	    dp_cloud_alloc(&pts, all, 1, err) != DP_OK) {
+	    dp_cloud_alloc(&pts, all, 0, err) != DP_OK) {
 		st = dp_fail(err, DP_ERR_NOMEM, "refine: out of memory for %zu points", all);
 		goto out;
 	}
 	if ((st = dp_knn_build(&knn, n, s->x, s->y, s->z, err)) != DP_OK ||
 	    (st = dp_knn_self(&knn, kk, idx, d2, err)) != DP_OK)
 		goto out;
+	double spacing = 0.0;
+	for (size_t i = 0; i < n; i++)
+		spacing += idx[i * (size_t)kk] >= 0 ? sqrt((double)d2[i * (size_t)kk]) : 0.0;
+	h.cell = (float)(MIN_GAP_R * spacing / (double)n);
+	if (!(h.cell > 0.0f))
+		goto out; /* every point coincides with another: nowhere to insert */
 	for (size_t i = 0; i < n; i++)
 		for (int j = 0; j < kk; j++) {
 			int o = idx[i * (size_t)kk + (size_t)j];
@@ -266,15 +276,14 @@ out:
 	return st;
 }
 
-dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target, double r, size_t *added,
-			   dp_error *err)
+dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target, size_t *added, dp_error *err)
 {
 	*added = 0;
-	if (!surface->nx || surface->n != skeleton->n || !(r > 0.0))
-		return dp_fail(err, DP_ERR_ARG, "refine: bad deep points (no normals, counts differ or r <= 0)");
+	if (!surface->nx || surface->n != skeleton->n)
+		return dp_fail(err, DP_ERR_ARG, "refine: bad deep points (no normals, or the counts differ)");
 	while (surface->n < target) {
 		size_t pass = 0;
-		dp_status st = insert_pass(surface, skeleton, target, r, &pass, err);
+		dp_status st = insert_pass(surface, skeleton, target, &pass, err);
 		if (st != DP_OK)
 			return st;
 		if (pass == 0)

@@ -7,16 +7,16 @@
 /*
  * Grows the deep points (`surface` with normals, `skeleton` its inner ends,
  * both with room for `target` rows; their n is the count in use) towards
- * `target` by inserting one point at the midpoint of each of the longest
- * tangent-plane edges between same-sided neighbours, skipping midpoints
- * nearer than a fraction of r to a point already there. Existing rows keep
- * their index; new rows are appended. r is the current spacing. Several
- * passes may be needed, as one pass adds at most about 3 points per point;
- * stops early only when a pass finds nowhere to insert. *added receives how
- * many were inserted.
+ * `target` by inserting points at midpoints of tangent-plane edges between
+ * same-sided neighbours: every edge much longer than the median (a gap) and
+ * an even random choice among the others, skipping midpoints nearer than a
+ * fraction of the current spacing to a point already there. Existing rows
+ * keep their index; new rows are appended. One pass adds at most about 3
+ * points per point, so a larger growth takes several passes, each at its own
+ * spacing; stops early only when a pass finds nowhere to insert. *added
+ * receives how many were inserted.
  */
-dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target, double r, size_t *added,
-			   dp_error *err);
+dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target, size_t *added, dp_error *err);
 
 /* The count of each level: `levels` (>= 1) levels from coarse to target with
  * the same growth factor each, counts[levels - 1] = target. */

@@ -329,7 +329,9 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 		goto done;
 	double t_iter = dp_seconds();
 	stats->seconds_density = t_iter - t_density;
-	if (!(moves = dp_alloc_array((size_t)params->max_iters + 1, sizeof(double)))) {
+	/* the last window + 1 mean moves, a ring indexed by iteration */
+	size_t ring = (size_t)params->window + 1;
+	if (!(moves = dp_alloc_array(ring, sizeof(double)))) {
 		st = dp_fail(err, DP_ERR_NOMEM, "wlop: out of memory");
 		goto done;
 	}
@@ -342,13 +344,13 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 		stats->last_mean_move = mean_move / h;
 		if ((st = dp_progress(ctx, "wlop", it + 1, stats->last_mean_move, err)) != DP_OK)
 			goto done;
-		moves[it] = stats->last_mean_move;
+		moves[(size_t)it % ring] = stats->last_mean_move;
 		if (stats->last_mean_move < params->tol) {
 			stats->converged = 1;
 			break;
 		}
-		if (it >= params->window && moves[it] < params->stall_tol &&
-		    moves[it] > (1.0 - params->min_drop) * moves[it - params->window]) {
+		if (it >= params->window && stats->last_mean_move < params->stall_tol &&
+		    stats->last_mean_move > (1.0 - params->min_drop) * moves[(size_t)(it - params->window) % ring]) {
 			stats->converged = 1;
 			stats->stalled = 1;
 			break;
