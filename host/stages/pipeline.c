@@ -20,6 +20,11 @@ void dp_params_default(dp_params *p)
 	dp_refine_params_default(&p->refine);
 }
 
+/* Upsampling grows a coarse level of the input's distinct positions; below
+ * this many there is no surface to grow from (sinking and the skeleton need
+ * neighbourhoods of a few dozen points). */
+#define MIN_COARSE_SAMPLES 32
+
 void dp_refine_params_default(dp_refine_params *p)
 {
 	p->coarse_samples = 4000;
@@ -180,6 +185,11 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	}
 	if (coarse_count && distinct < coarse_count)
 		coarse_count = distinct;
+	if (coarse_count && coarse_count < target && coarse_count < MIN_COARSE_SAMPLES) {
+		st = dp_fail(err, DP_ERR_ARG, "wlop: the input has %zu distinct position%s, fewer than %zu samples",
+			     distinct, distinct == 1 ? "" : "s", target);
+		goto fail;
+	}
 	int levels = dp_refine_levels(coarse_count, target, params->refine.level_factor, counts, DP_MAX_LEVELS);
 	dp_wlop_params wp = params->wlop;
 	wp.samples = counts[0];
