@@ -1,6 +1,6 @@
 /* Uniform-grid helpers shared by every kernel (host side: host/grid/grid.h).
  * The neighbour set of a query is scanned as 9 rows of 3 consecutive cells
- * (GRID_FOR), or (2 ry + 1)(2 rz + 1) rows of 2 rx + 1 cells (GRID_FOR_REACH):
+ * (GRID_PAIRS), or (2 ry + 1)(2 rz + 1) rows of 2 rx + 1 cells (GRID_PAIRS_REACH):
  * cells adjacent in x are adjacent in the counting sort, so one row is one
  * contiguous index range. grid_dim.w is the grid's margin (empty cells on each
  * side). */
@@ -9,32 +9,6 @@
 	__global const float *gx, __global const float *gy, __global const float *gz, \
 	__global const uint *cell_start, __global const uint *cell_count,            \
 	const float4 grid_origin_cell, const int4 grid_dim
-
-int grid_coord(float v, float origin, float cell, int dim)
-{
-	float f = (v - origin) / cell;
-	if (!(f >= 1.0f))
-		return 1;
-	if (f >= (float)(dim - 2))
-		return dim - 2;
-	return (int)f;
-}
-
-/* Opens a loop over every grid index `k` whose point may lie within one cell of
- * (px, py, pz); close it with GRID_FOR_END. */
-#define GRID_FOR(px, py, pz, k)                                                          \
-	{                                                                                \
-		int gcx_ = grid_coord((px), grid_origin_cell.x, grid_origin_cell.w, grid_dim.x); \
-		int gcy_ = grid_coord((py), grid_origin_cell.y, grid_origin_cell.w, grid_dim.y); \
-		int gcz_ = grid_coord((pz), grid_origin_cell.z, grid_origin_cell.w, grid_dim.z); \
-		for (int gdz_ = -1; gdz_ <= 1; gdz_++)                                     \
-			for (int gdy_ = -1; gdy_ <= 1; gdy_++) {                           \
-				uint grow_ = ((uint)(gcz_ + gdz_) * (uint)grid_dim.y +     \
-					      (uint)(gcy_ + gdy_)) * (uint)grid_dim.x +    \
-					     (uint)gcx_;                                   \
-				uint gbeg_ = cell_start[grow_ - 1];                        \
-				uint gend_ = cell_start[grow_ + 1] + cell_count[grow_ + 1]; \
-				for (uint k = gbeg_; k < gend_; k++) {
 
 /* Cell coordinate clamped to [margin, dim-1-margin], as dp_grid_coord. */
 int grid_coord_margin(float v, float origin, float cell, int dim, int margin)
@@ -56,33 +30,12 @@ int grid_reach_cells(float len, float cell, int margin)
 	return f > 0.0f ? (int)f : 0;
 }
 
-/* Opens a loop over every grid index `k` whose point may lie within (rx, ry,
- * rz) cells of (px, py, pz) along x, y, z; each reach is in [0, margin]
- * (grid_reach_cells gives that). Close it with GRID_FOR_END. */
-#define GRID_FOR_REACH(px, py, pz, rx, ry, rz, k)                                                   \
-	{                                                                                           \
-		int gm_ = grid_dim.w;                                                               \
-		int gcx_ = grid_coord_margin((px), grid_origin_cell.x, grid_origin_cell.w, grid_dim.x, gm_); \
-		int gcy_ = grid_coord_margin((py), grid_origin_cell.y, grid_origin_cell.w, grid_dim.y, gm_); \
-		int gcz_ = grid_coord_margin((pz), grid_origin_cell.z, grid_origin_cell.w, grid_dim.z, gm_); \
-		int grx_ = (rx), gry_ = (ry), grz_ = (rz);                                          \
-		for (int gdz_ = -grz_; gdz_ <= grz_; gdz_++)                                        \
-			for (int gdy_ = -gry_; gdy_ <= gry_; gdy_++) {                              \
-				uint grow_ = ((uint)(gcz_ + gdz_) * (uint)grid_dim.y +                \
-					      (uint)(gcy_ + gdy_)) * (uint)grid_dim.x +               \
-					     (uint)gcx_;                                              \
-				uint gbeg_ = cell_start[grow_ - (uint)grx_];                          \
-				uint gend_ = cell_start[grow_ + (uint)grx_] + cell_count[grow_ + (uint)grx_]; \
-				for (uint k = gbeg_; k < gend_; k++) {
-
-#define GRID_FOR_END }}}
-
 /* Candidates DP_LANES at a time (the host sets it by device type, DP_CL_LANES_*
  * in host/cl/runtime.h). PoCL cannot vectorise across work-items whose
  * neighbour loops differ in length, and its vectorisation of the inner loop
  * leaves the tail of every short grid row to scalar code; explicit vectors
  * with the lanes past the row's end masked off ran the WLOP attraction 2.7x
- * faster on PoCL (AVX-512) than the plain GRID_FOR loop. A GPU's work-items
+ * faster on PoCL (AVX-512) than a plain loop over the row. A GPU's work-items
  * are its lanes: there DP_LANES is 1 and LANE_T is float. */
 #ifndef DP_LANES
 #define DP_LANES 16
@@ -138,39 +91,18 @@ float4 lane_min8(float8 v) { return fmin(v.lo, v.hi); }
 float lane_min4(float4 v) { float2 a = fmin(v.lo, v.hi); return fmin(a.x, a.y); }
 
 /* Runs BODY over every grid index whose point may lie within one cell of
- * (px, py, pz) (the 9 rows of GRID_FOR): as BODY(LANE_T, LANE_LOAD, k, live, _v)
+ * (px, py, pz) (9 rows of 3 cells): as BODY(LANE_T, LANE_LOAD, k, live, _v)
  * for blocks of DP_LANES indices from k, `live` masking the lanes inside the
  * row, then as BODY(float, SCALAR_LOAD, k, 1, _s) one index at a time for the
  * rest of a row when a block would read past the end of the arrays. BODY
  * accumulates into variables suffixed _v and _s (combine them with LANE_SUM or
  * LANE_MIN). The grid's last cell is an empty margin cell, so its start is the
  * number of points. */
-#define GRID_PAIRS(px, py, pz, BODY)                                                           \
-	{                                                                                      \
-		uint gp_last_ = (uint)(grid_dim.x * grid_dim.y * grid_dim.z) - 1u;             \
-		uint gp_n_ = cell_start[gp_last_] + cell_count[gp_last_];                     \
-		int gp_cx_ = grid_coord((px), grid_origin_cell.x, grid_origin_cell.w, grid_dim.x); \
-		int gp_cy_ = grid_coord((py), grid_origin_cell.y, grid_origin_cell.w, grid_dim.y); \
-		int gp_cz_ = grid_coord((pz), grid_origin_cell.z, grid_origin_cell.w, grid_dim.z); \
-		for (int gp_dz_ = -1; gp_dz_ <= 1; gp_dz_++)                                  \
-			for (int gp_dy_ = -1; gp_dy_ <= 1; gp_dy_++) {                        \
-				uint gp_row_ = ((uint)(gp_cz_ + gp_dz_) * (uint)grid_dim.y +   \
-						(uint)(gp_cy_ + gp_dy_)) * (uint)grid_dim.x +  \
-					       (uint)gp_cx_;                                   \
-				uint gp_end_ = cell_start[gp_row_ + 1] + cell_count[gp_row_ + 1]; \
-				uint k = cell_start[gp_row_ - 1];                              \
-				for (; k < gp_end_ && k + DP_LANES <= gp_n_; k += DP_LANES) {  \
-					LANE_I live = LANE_IDS < (LANE_I)(int)(gp_end_ - k);   \
-					BODY(LANE_T, LANE_LOAD, k, live, _v)                   \
-				}                                                              \
-				for (; k < gp_end_; k++) {                                     \
-					BODY(float, SCALAR_LOAD, k, 1, _s)                     \
-				}                                                              \
-			}                                                                      \
-	}
+#define GRID_PAIRS(px, py, pz, BODY) GRID_PAIRS_REACH(px, py, pz, 1, 1, 1, BODY)
 
-/* GRID_PAIRS over the rows of GRID_FOR_REACH: every grid index whose point may
- * lie within (rx, ry, rz) cells of (px, py, pz), each reach in [0, margin]. */
+/* GRID_PAIRS over every grid index whose point may lie within (rx, ry, rz)
+ * cells of (px, py, pz), each reach in [0, margin] (grid_reach_cells gives
+ * that). */
 #define GRID_PAIRS_REACH(px, py, pz, rx, ry, rz, BODY)                                         \
 	{                                                                                      \
 		uint gp_last_ = (uint)(grid_dim.x * grid_dim.y * grid_dim.z) - 1u;             \

@@ -62,19 +62,7 @@ static int cancel_cb(void *user, const char *stage, int iteration, double value,
 
 static void scan_torus(dp_cloud *scan)
 {
-	dp_error err = {0};
-	dp_shape shape;
-	dp_cloud mesh = {0};
-	assert_int_equal(dp_shape_default("torus", &shape, &err), DP_OK);
-	assert_int_equal(dp_shape_mesh(&shape, &mesh, &err), DP_OK);
-	dp_scan_params sp;
-	dp_scan_params_default(&sp);
-	sp.views = 3;
-	sp.res = 64;
-	sp.noise = 0.003;
-	sp.normals = 0;
-	assert_int_equal(dp_scan(&mesh, &sp, scan, NULL, &err), DP_OK);
-	dp_cloud_free(&mesh);
+	tk_scan_shape("torus", 3, 64, 0.003, 1, NULL, NULL, scan);
 }
 
 /* Stopping in every stage: the call returns DP_ERR_CANCELLED within the

@@ -159,17 +159,8 @@ static void test_upsample_pipeline(void **state)
 {
 	(void)state;
 	dp_error err = {0};
-	dp_shape shape;
 	dp_cloud mesh = {0}, scan = {0};
-	dp_scan_params sp;
-	dp_scan_params_default(&sp);
-	sp.views = 1;
-	sp.res = 48;
-	sp.noise = 0.002;
-	sp.normals = 0;
-	if (dp_shape_default("sphere", &shape, &err) != DP_OK || dp_shape_mesh(&shape, &mesh, &err) != DP_OK ||
-	    dp_scan(&mesh, &sp, &scan, NULL, &err) != DP_OK)
-		fail_msg("%s", err.message);
+	tk_scan_shape("sphere", 1, 48, 0.002, 1, NULL, &mesh, &scan);
 	/* the default coarse count is above the scan's: the coarse level takes
 	 * every distinct input position */
 	dp_params p;

@@ -17,17 +17,8 @@ static void test_rods_two_views(void **state)
 	(void)state;
 	dp_error err = {0};
 	dp_shape shape;
-	dp_cloud mesh = {0}, scan = {0};
-	dp_scan_params sp;
-	dp_scan_params_default(&sp);
-	sp.views = 2;
-	sp.res = 200;
-	sp.noise = 0.003;
-	sp.normals = 0;
-	sp.seed = 7;
-	if (dp_shape_default("rods", &shape, &err) != DP_OK || dp_shape_mesh(&shape, &mesh, &err) != DP_OK ||
-	    dp_scan(&mesh, &sp, &scan, NULL, &err) != DP_OK)
-		fail_msg("%s", err.message);
+	dp_cloud scan = {0};
+	tk_scan_shape("rods", 2, 200, 0.003, 7, &shape, NULL, &scan);
 	dp_result res = {0};
 	if (dp_consolidate(tk_cl_context(), &scan, NULL, &res, &err) != DP_OK)
 		fail_msg("%s", err.message);
@@ -44,7 +35,6 @@ static void test_rods_two_views(void **state)
 	assert_true(su.surface_mean / res.r <= SURFACE_MEAN_R);
 	assert_true(inside >= INSIDE_FRACTION);
 	dp_result_free(&res);
-	dp_cloud_free(&mesh);
 	dp_cloud_free(&scan);
 }
 

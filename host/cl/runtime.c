@@ -331,7 +331,7 @@ void dp_cl_grid_args(const dp_grid *g, dp_cl_grid_storage *s, dp_cl_arg out[DP_C
 	s->origin_cell.s[3] = g->cell;
 	for (int a = 0; a < 3; a++)
 		s->dim.s[a] = g->dim[a];
-	s->dim.s[3] = g->margin; /* GRID_FOR_REACH clamps queries by it */
+	s->dim.s[3] = g->margin; /* GRID_PAIRS(_REACH) clamps queries by it */
 	out[0] = DP_CL_IN(g->x, g->n * sizeof(float));
 	out[1] = DP_CL_IN(g->y, g->n * sizeof(float));
 	out[2] = DP_CL_IN(g->z, g->n * sizeof(float));

@@ -8,4 +8,37 @@
  * enough for covariance matrices and never fails. */
 void dp_eig3_sym(const double a[6], double w[3], double v[3][3]);
 
+/* First and second moments of offsets d (from any fixed origin, chosen near
+ * the points so that float positions keep their precision): zero-initialise,
+ * add each offset, then dp_moments_cov gives the covariance in dp_eig3_sym's
+ * layout. */
+typedef struct dp_moments {
+	double s[3], ss[6];
+	double count;
+} dp_moments;
+
+static inline void dp_moments_add(dp_moments *m, const double d[3])
+{
+	for (int a = 0; a < 3; a++)
+		m->s[a] += d[a];
+	m->ss[0] += d[0] * d[0];
+	m->ss[1] += d[0] * d[1];
+	m->ss[2] += d[0] * d[2];
+	m->ss[3] += d[1] * d[1];
+	m->ss[4] += d[1] * d[2];
+	m->ss[5] += d[2] * d[2];
+	m->count += 1.0;
+}
+
+static inline void dp_moments_cov(const dp_moments *m, double cov[6])
+{
+	double c = m->count, mean[3] = {m->s[0] / c, m->s[1] / c, m->s[2] / c};
+	cov[0] = m->ss[0] / c - mean[0] * mean[0];
+	cov[1] = m->ss[1] / c - mean[0] * mean[1];
+	cov[2] = m->ss[2] / c - mean[0] * mean[2];
+	cov[3] = m->ss[3] / c - mean[1] * mean[1];
+	cov[4] = m->ss[4] / c - mean[1] * mean[2];
+	cov[5] = m->ss[5] / c - mean[2] * mean[2];
+}
+
 #endif

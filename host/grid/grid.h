@@ -9,8 +9,8 @@
  * clamped to the outermost cell that holds points, and a point within R cells
  * of the query lies less than R cells further in than that cell, inside the
  * scanned range. dp_grid_build (margin 1) serves the 27-cell scan of dp_grid_rows
- * and GRID_FOR (cells >= the radius); dp_grid_build_margin with margin R the
- * scan of R cells per side (dp_grid_row, GRID_FOR_REACH), for queries whose
+ * and GRID_PAIRS (cells >= the radius); dp_grid_build_margin with margin R the
+ * scan of R cells per side (dp_grid_row, GRID_PAIRS_REACH), for queries whose
  * reach differs, with cells smaller than the longest reach. Positions are
  * stored sorted by cell; perm maps a sorted index back to the caller's index. */
 #ifndef DP_GRID_GRID_H

@@ -22,22 +22,13 @@ dp_status dp_check_volume(const dp_cloud *in, dp_error *err)
 		return dp_fail(err, DP_ERR_ARG, "consolidate: %zu input point%s span no volume (at least 4 are needed)", n,
 			       n == 1 ? "" : "s");
 	/* about the first point, so a far offset keeps its precision */
-	double o[3] = {in->x[0], in->y[0], in->z[0]}, s[3] = {0, 0, 0}, ss[6] = {0, 0, 0, 0, 0, 0};
+	double o[3] = {in->x[0], in->y[0], in->z[0]}, cov[6];
+	dp_moments mom = {{0, 0, 0}, {0, 0, 0, 0, 0, 0}, 0};
 	for (size_t i = 0; i < n; i++) {
 		double d[3] = {in->x[i] - o[0], in->y[i] - o[1], in->z[i] - o[2]};
-		s[0] += d[0];
-		s[1] += d[1];
-		s[2] += d[2];
-		ss[0] += d[0] * d[0];
-		ss[1] += d[0] * d[1];
-		ss[2] += d[0] * d[2];
-		ss[3] += d[1] * d[1];
-		ss[4] += d[1] * d[2];
-		ss[5] += d[2] * d[2];
+		dp_moments_add(&mom, d);
 	}
-	double m[3] = {s[0] / n, s[1] / n, s[2] / n};
-	double cov[6] = {ss[0] / n - m[0] * m[0], ss[1] / n - m[0] * m[1], ss[2] / n - m[0] * m[2],
-			 ss[3] / n - m[1] * m[1], ss[4] / n - m[1] * m[2], ss[5] / n - m[2] * m[2]};
+	dp_moments_cov(&mom, cov);
 	double w[3], v[3][3];
 	dp_eig3_sym(cov, w, v);
 	/* standard deviations along the principal axes, smallest first */

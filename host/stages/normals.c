@@ -47,28 +47,18 @@ static dp_status validate(const dp_cloud *cloud, const dp_normal_params *p, dp_e
  * returns the total variance, proportional to the area the point stands for. */
 static double pca_normal(const dp_cloud *c, size_t i, const int *nb, int k)
 {
-	double s[3] = {0, 0, 0}, ss[6] = {0, 0, 0, 0, 0, 0};
-	int count = 1;
+	/* the point itself, at offset 0, then its neighbours */
+	dp_moments mom = {{0, 0, 0}, {0, 0, 0, 0, 0, 0}, 0};
+	double zero[3] = {0, 0, 0}, cov[6];
+	dp_moments_add(&mom, zero);
 	for (int m = 0; m < k; m++) {
 		if (nb[m] < 0)
 			continue;
 		size_t j = (size_t)nb[m];
 		double d[3] = {(double)c->x[j] - c->x[i], (double)c->y[j] - c->y[i], (double)c->z[j] - c->z[i]};
-		s[0] += d[0];
-		s[1] += d[1];
-		s[2] += d[2];
-		ss[0] += d[0] * d[0];
-		ss[1] += d[0] * d[1];
-		ss[2] += d[0] * d[2];
-		ss[3] += d[1] * d[1];
-		ss[4] += d[1] * d[2];
-		ss[5] += d[2] * d[2];
-		count++;
+		dp_moments_add(&mom, d);
 	}
-	double mean[3] = {s[0] / count, s[1] / count, s[2] / count};
-	double cov[6] = {ss[0] / count - mean[0] * mean[0], ss[1] / count - mean[0] * mean[1],
-			 ss[2] / count - mean[0] * mean[2], ss[3] / count - mean[1] * mean[1],
-			 ss[4] / count - mean[1] * mean[2], ss[5] / count - mean[2] * mean[2]};
+	dp_moments_cov(&mom, cov);
 	double w[3], v[3][3];
 	dp_eig3_sym(cov, w, v);
 	c->nx[i] = (float)v[0][0];

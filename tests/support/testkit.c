@@ -131,3 +131,27 @@ const char *tk_temp_dir(void)
 		fail_msg("mkdtemp failed");
 	return dir;
 }
+
+void tk_scan_shape(const char *name, int views, int res, double noise, uint64_t seed, dp_shape *shape,
+		   dp_cloud *mesh, dp_cloud *scan)
+{
+	dp_error err = {0};
+	dp_shape s;
+	dp_cloud m = {0};
+	dp_scan_params sp;
+	dp_scan_params_default(&sp);
+	sp.views = views;
+	sp.res = res;
+	sp.noise = noise;
+	sp.normals = 0;
+	sp.seed = seed;
+	if (dp_shape_default(name, &s, &err) != DP_OK || dp_shape_mesh(&s, &m, &err) != DP_OK ||
+	    dp_scan(&m, &sp, scan, NULL, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	if (shape)
+		*shape = s;
+	if (mesh)
+		*mesh = m;
+	else
+		dp_cloud_free(&m);
+}

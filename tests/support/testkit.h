@@ -39,6 +39,13 @@ const char *tk_data_path(const char *relative);
 #define TK_EXIT_SKIPPED 77
 int tk_exit_status(int failed);
 
+/* The built-in shape `name` (into *shape when not NULL), its mesh (into
+ * *mesh when not NULL) and a virtual scan of it without normals, on a ring
+ * of `views` viewpoints, res x res rays, Gaussian noise in diagonals. Fails
+ * the test on error. */
+void tk_scan_shape(const char *name, int views, int res, double noise, uint64_t seed, dp_shape *shape,
+		   dp_cloud *mesh, dp_cloud *scan);
+
 /* A fresh temporary folder (mkdtemp); static buffer. */
 const char *tk_temp_dir(void);
 
