@@ -115,6 +115,18 @@ run huge_factor consolidate "$tmp/torus.ply" -o "$tmp/bad" --samples 1e30x
 one_error_line huge_factor 2 "deep points"
 run bad_ratio consolidate "$tmp/torus.ply" -o "$tmp/bad" --ratio -1
 one_error_line bad_ratio 2 "ratio"
+# --coarse-samples 0 turns coarse to fine off, as its help says: one level.
+if expect_ok one_level consolidate "$tmp/torus.ply" -o "$tmp/one" --samples $m --coarse-samples 0 --quiet; then
+	if msg=$(py '
+import json, sys
+levels = json.load(open(sys.argv[1] + "/report.json"))["results"]["surface"]["levels"]
+if len(levels) != 1:
+    sys.exit("levels %s" % levels)
+print("%d points in one level" % levels[0]["points"])
+' "$tmp/one" 2>&1); then ok "--coarse-samples 0: $msg"; else fail "--coarse-samples 0: $msg"; fi
+fi
+run bad_coarse consolidate "$tmp/torus.ply" -o "$tmp/bad" --coarse-samples -1
+one_error_line bad_coarse 2 "--coarse-samples"
 run bad_level_factor consolidate "$tmp/torus.ply" -o "$tmp/bad" --level-factor 1
 one_error_line bad_level_factor 2 "level factor"
 

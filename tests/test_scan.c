@@ -95,6 +95,42 @@ static void test_one_view_covers_half(void **state)
 	dp_cloud_free(&m);
 }
 
+/* An odd ray count puts the middle column of rays in the plane through the
+ * eye, the centre and the up axis: for the default view that is a meridian
+ * plane of the sphere's mesh, which holds edges and bounding-box faces. Such
+ * rays once passed through the front and hit the back (0.6% of a one-view
+ * scan's points, 1 R behind the seen surface). Every hit must lie on the
+ * hemisphere that faces the eye. */
+static void test_rays_in_mesh_planes(void **state)
+{
+	(void)state;
+	dp_shape s;
+	dp_cloud m, pts;
+	make_shape("sphere", 0, &s, &m);
+	dp_scan_params p;
+	dp_scan_params_default(&p);
+	p.views = 1;
+	p.res = 201;
+	scan(&m, &p, &pts);
+	double mean[3] = {0, 0, 0};
+	for (size_t i = 0; i < pts.n; i++) {
+		mean[0] += pts.x[i];
+		mean[1] += pts.y[i];
+		mean[2] += pts.z[i];
+	}
+	double len = sqrt(mean[0] * mean[0] + mean[1] * mean[1] + mean[2] * mean[2]);
+	size_t behind = 0;
+	for (size_t i = 0; i < pts.n; i++) {
+		double along = (pts.x[i] * mean[0] + pts.y[i] * mean[1] + pts.z[i] * mean[2]) / len;
+		behind += along < -0.01 * s.radius;
+	}
+	printf("one view at %d x %d rays: %zu points, %zu behind the seen hemisphere\n", p.res, p.res, pts.n,
+	       behind);
+	assert_int_equal(behind, 0);
+	dp_cloud_free(&pts);
+	dp_cloud_free(&m);
+}
+
 static void test_noise_level(void **state)
 {
 	(void)state;
@@ -353,6 +389,7 @@ int main(void)
 		cmocka_unit_test(test_bvh_matches_brute_force),
 		cmocka_unit_test(test_complete_scan_covers_sphere),
 		cmocka_unit_test(test_one_view_covers_half),
+		cmocka_unit_test(test_rays_in_mesh_planes),
 		cmocka_unit_test(test_noise_level),
 		cmocka_unit_test(test_views_normals_and_seed),
 		cmocka_unit_test(test_up_axis),

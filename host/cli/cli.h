@@ -24,6 +24,7 @@ int dp_cli_fail(const char *cmd, const dp_error *err);
 typedef enum cli_opt_kind {
 	CLI_STRING,  /* const char * */
 	CLI_SIZE,    /* size_t, > 0 */
+	CLI_COUNT,   /* size_t, >= 0 (0 has a meaning of its own) */
 	CLI_INT,     /* int */
 	CLI_U64,     /* uint64_t */
 	CLI_DOUBLE,  /* double */

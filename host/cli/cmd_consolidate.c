@@ -183,7 +183,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "surface sums over whole balls (the paper) instead of the point's own side", NULL, NULL},
 		{"--no-dpoint-orient", CLI_FLAG, &old_orient,
 		 "sign PCA normals by the old normal instead of the dpoint orientation", NULL, NULL},
-		{"--coarse-samples", CLI_SIZE, &p->refine.coarse_samples,
+		{"--coarse-samples", CLI_COUNT, &p->refine.coarse_samples,
 		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
 		 NULL},

@@ -49,10 +49,12 @@ static int set_value(const char *cmd, const cli_opt *o, const char *v)
 	case CLI_STRING:
 		*(const char **)o->target = v;
 		return 0;
-	case CLI_SIZE: {
+	case CLI_SIZE:
+	case CLI_COUNT: {
 		unsigned long long x = strtoull(v, &end, 10);
-		if (errno || end == v || *end || x == 0 || strchr(v, '-') || x > SIZE_MAX)
-			return bad_value(cmd, o->name, v, "a positive integer");
+		int zero_ok = o->kind == CLI_COUNT;
+		if (errno || end == v || *end || (x == 0 && !zero_ok) || strchr(v, '-') || x > SIZE_MAX)
+			return bad_value(cmd, o->name, v, zero_ok ? "a non-negative integer" : "a positive integer");
 		*(size_t *)o->target = (size_t)x;
 		return 0;
 	}
@@ -187,6 +189,9 @@ static void print_default(FILE *out, const cli_opt *o)
 	case CLI_SIZE:
 		if (*(size_t *)o->target)
 			fprintf(out, " [default: %zu]", *(size_t *)o->target);
+		break;
+	case CLI_COUNT:
+		fprintf(out, " [default: %zu]", *(size_t *)o->target);
 		break;
 	case CLI_INT:
 		fprintf(out, " [default: %d]", *(int *)o->target);

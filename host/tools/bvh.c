@@ -285,6 +285,15 @@ static double box_entry(const dp_bvh_node *node, const double o[3], const double
 {
 	double tmin = 0;
 	for (int d = 0; d < 3; d++) {
+		/* A ray parallel to the slab: (lo - o) * inf is NaN when o lies on
+		 * the slab's face, and fmin/fmax would then drop the box. A scan's
+		 * rays in the plane of a mesh's edges (a sphere's meridian) lost
+		 * every box touching that plane and hit the far side instead. */
+		if (isinf(inv[d])) {
+			if (o[d] < node->lo[d] || o[d] > node->hi[d])
+				return INFINITY;
+			continue;
+		}
 		double t0 = (node->lo[d] - o[d]) * inv[d], t1 = (node->hi[d] - o[d]) * inv[d];
 		tmin = fmax(tmin, fmin(t0, t1));
 		tmax = fmin(tmax, fmax(t0, t1));
