@@ -5,7 +5,9 @@
  * shape. Every test prints what it measures. */
 #include "testkit.h"
 
+#include "grid/grid.h"
 #include "knn/knn.h"
+#include "stages/meet.h"
 
 #include <math.h>
 #include <stdio.h>
@@ -203,12 +205,11 @@ static double spacing(const dp_cloud *c)
 	return r;
 }
 
-static void run_sink(dp_context *ctx, const dp_cloud *s, double r, dp_cloud *anchors, dp_sink_stats *stats)
+static void run_sink_with(dp_context *ctx, const dp_cloud *s, double r, const dp_sink_params *p, dp_cloud *anchors,
+			  dp_sink_stats *stats)
 {
-	dp_sink_params p;
-	dp_sink_params_default(&p);
 	dp_error err = {0};
-	if (dp_sink(ctx, s, r, &p, anchors, stats, &err) != DP_OK)
+	if (dp_sink(ctx, s, r, p, anchors, stats, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	assert_int_equal(anchors->n, s->n);
 	for (size_t i = 0; i < s->n; i++)
@@ -217,6 +218,13 @@ static void run_sink(dp_context *ctx, const dp_cloud *s, double r, dp_cloud *anc
 	       "%.2f s, %.3g pairs\n",
 	       s->n, r, stats->iterations, stats->settled_front, stats->settled_slow, stats->unsettled,
 	       stats->seconds, stats->pair_evaluations);
+}
+
+static void run_sink(dp_context *ctx, const dp_cloud *s, double r, dp_cloud *anchors, dp_sink_stats *stats)
+{
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	run_sink_with(ctx, s, r, &p, anchors, stats);
 }
 
 static double norm3(double x, double y, double z)
@@ -253,7 +261,8 @@ static void test_sphere(void **state)
  * meet makes it about twice as long (measured: side anchors 0.76, 0.56, 0.35,
  * 0.17 R from the axis in the four half-R slices next to an end, ~1 r
  * beyond). The mean over all anchors therefore depends on the length: 0.33 R
- * at L = 8 R, 0.28-0.29 R at 10 R, 0.26-0.27 R at 12 R (R = 8 r). */
+ * at L = 8 R, 0.28-0.29 R at 10 R, 0.26-0.27 R at 12 R (R = 8 r) without the
+ * meeting step (dpoints.h, sinking 1a); with it 0.19 R at 12 R. */
 static void test_cylinder(void **state)
 {
 	(void)state;
@@ -315,39 +324,95 @@ static void test_torus(void **state)
 
 /* One-sided: only the upper half of a sphere, or a shallow cap of it. Points
  * facing the missing half must stop inside the sphere. */
-static void one_sided(shape s, size_t target, uint64_t seed)
+static double one_sided(shape s, size_t target, uint64_t seed, double meet_shift_r)
 {
 	dp_cloud c, h;
 	sample_shape(&s, dmin_for(&s, target), seed, &c);
 	double r = spacing(&c);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	p.meet_shift_r = meet_shift_r;
 	dp_sink_stats st;
-	run_sink(tk_cl_context(), &c, r, &h, &st);
-	double sum = 0.0, worst = 0.0, lowest = INFINITY;
+	run_sink_with(tk_cl_context(), &c, r, &p, &h, &st);
+	double sum = 0.0, worst = 0.0, lowest = INFINITY, mean_z = 0.0;
 	for (size_t i = 0; i < h.n; i++) {
 		double d = norm3(h.x[i], h.y[i], h.z[i]);
 		sum += d;
 		worst = fmax(worst, d);
 		lowest = fmin(lowest, h.z[i]);
+		mean_z += h.z[i];
 	}
-	printf("  %s (R = %.1f r): anchors' mean distance to the centre %.4f R, largest %.4f R, lowest z %.4f R\n",
-	       s.kind == CAP ? "cap" : "hemisphere", s.radius / r, sum / (double)h.n / s.radius,
-	       worst / s.radius, lowest / s.radius);
+	mean_z /= (double)h.n;
+	printf("  %s (R = %.1f r), meeting shift %g r: anchors' mean distance to the centre %.4f R, largest %.4f R, "
+	       "lowest z %.4f R, mean z %.2f r\n",
+	       s.kind == CAP ? "cap" : "hemisphere", s.radius / r, meet_shift_r, sum / (double)h.n / s.radius,
+	       worst / s.radius, lowest / s.radius, mean_z / r);
 	assert_int_equal(st.unsettled, 0);
 	assert_true(worst < s.radius);
 	dp_cloud_free(&c);
 	dp_cloud_free(&h);
+	return mean_z / r;
 }
 
 static void test_hemisphere(void **state)
 {
 	(void)state;
-	one_sided((shape){.kind = HEMISPHERE, .radius = 1.0}, 2500, 4);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	double met = one_sided((shape){.kind = HEMISPHERE, .radius = 1.0}, 2500, 4, p.meet_shift_r);
+	double short_of = one_sided((shape){.kind = HEMISPHERE, .radius = 1.0}, 2500, 4, 0.0);
+	/* Every front comes from above: without the meeting step the anchors
+	 * stop about a settle radius short of the centre, all on the scanned
+	 * side (measured 1.0 r); moved to where their lines meet, 0.25 r. */
+	assert_true(short_of > 0.75);
+	assert_true(fabs(met) < 0.5);
+}
+
+/* The meeting point of hand-placed lines: two surface points 90° apart on a
+ * sphere of radius 10 around the origin meet at the centre, whatever depth
+ * the settled point stopped at; opposite normals (parallel lines) fix no
+ * depth; a partner whose surface point is near (a crease) or whose normal is
+ * within ω does not count; the move is clamped. */
+static void test_meet_shift(void **state)
+{
+	(void)state;
+	/* One partner at a time: 0 at 90° (its inner end 1 short of the centre
+	 * on its line), 1 with the opposite normal, 2 a crease neighbour (its
+	 * surface point near p), 3 a far one whose normal is only 30° away. */
+	const float g[4][3] = {{-1.0f, 0.0f, 0.0f}, {0.5f, 0.5f, 0.0f}, {0.2f, 0.2f, 1.2f}, {0.0f, 0.3f, 0.8f}};
+	const float sp[4][3] = {{-10.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -10.0f}, {0.5f, 0.0f, 10.0f}, {5.0f, 0.0f, 8.66f}};
+	const float sn[4][3] = {{-1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 1.0f}, {0.5f, 0.0f, 0.866f}};
+	const float want[4] = {1.5f, 0.0f, 0.0f, 0.0f};
+	float p[3] = {0.0f, 0.0f, 10.0f}, n[3] = {0.0f, 0.0f, 1.0f}, q[3] = {0.0f, 0.0f, 1.5f};
+	dp_error err = {0};
+	for (int k = 0; k < 4; k++) {
+		dp_grid grid = {0};
+		assert_int_equal(dp_grid_build(&grid, 1, &g[k][0], &g[k][1], &g[k][2], 4.0f, &err), DP_OK);
+		dp_meet_args a = {
+			.inner = &grid, .sx = &sp[k][0], .sy = &sp[k][1], .sz = &sp[k][2],
+			.nx = &sn[k][0], .ny = &sn[k][1], .nz = &sn[k][2],
+			.radius = 4.0f, .far_d2 = 4.0f, .cos_w = cosf((float)M_PI / 4.0f), .max_shift = 3.0f,
+		};
+		float shift = dp_meet_shift(&a, q, p, n);
+		printf("  partner %d: shift %.4f (expected %.4f)\n", k, shift, want[k]);
+		/* q is 8.5 deep; the lines of partner 0 cross p's at depth 10 */
+		assert_float_equal(shift, want[k], 1e-4f);
+		if (k == 0) {
+			float deep[3] = {0.0f, 0.0f, -1.0f};
+			assert_float_equal(dp_meet_shift(&a, deep, p, n), -1.0f, 1e-4f);
+			a.max_shift = 1.0f;
+			assert_float_equal(dp_meet_shift(&a, q, p, n), 1.0f, 1e-6f);
+		}
+		dp_grid_free(&grid);
+	}
 }
 
 static void test_shallow_cap(void **state)
 {
 	(void)state;
-	one_sided((shape){.kind = CAP, .radius = 1.0, .cap_deg = 30.0}, 2500, 5);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	one_sided((shape){.kind = CAP, .radius = 1.0, .cap_deg = 30.0}, 2500, 5, p.meet_shift_r);
 }
 
 /* The whole stage gives the same anchors on both backends (small input: the
@@ -440,6 +505,11 @@ static void test_bad_input(void **state)
 	p.max_iters = 0;
 	expect_error(&c, r, &p, DP_ERR_ARG, "max_iters 0");
 	dp_sink_params_default(&p);
+	p.meet_shift_r = -1.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "negative meeting shift");
+	p.meet_shift_r = NAN;
+	expect_error(&c, r, &p, DP_ERR_ARG, "NaN meeting shift");
+	dp_sink_params_default(&p);
 	float keep = c.ny[5];
 	c.ny[5] = NAN;
 	expect_error(&c, r, &p, DP_ERR_ARG, "NaN normal");
@@ -468,6 +538,7 @@ int main(void)
 		cmocka_unit_test(test_cylinder),
 		cmocka_unit_test(test_torus),
 		cmocka_unit_test(test_hemisphere),
+		cmocka_unit_test(test_meet_shift),
 		cmocka_unit_test(test_shallow_cap),
 		cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_cap_reported),

@@ -4,6 +4,7 @@
  * the anchors H. The math is stated once, in dpoints.h beside dp_sink; the
  * neighbour sums are the operators of backend/sink_ops.h. */
 #include "backend/sink_ops.h"
+#include "stages/meet.h"
 #include "core/common.h"
 #include "knn/knn.h"
 
@@ -22,6 +23,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->slow_fraction = 0.5;
 	p->max_iters = 200;
 	p->medial_margin_r = 1.0;
+	p->meet_shift_r = 2.0;
 }
 
 static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
@@ -45,6 +47,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 	if (!(p->medial_margin_r >= 0.0 && isfinite(p->medial_margin_r)))
 		return dp_fail(err, DP_ERR_ARG, "sink: medial margin %g r is not a finite number >= 0 (0 turns the test off)",
 			       p->medial_margin_r);
+	if (!(p->meet_shift_r >= 0.0 && isfinite(p->meet_shift_r) && isfinite((float)(p->meet_shift_r * r))))
+		return dp_fail(err, DP_ERR_ARG, "sink: meeting shift %g r is not a finite number >= 0 (0 turns it off)",
+			       p->meet_shift_r);
 	/* Lengths go to the device as floats. */
 	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))
 		return dp_fail(err, DP_ERR_ARG, "sink: radii of r = %g overflow a float", r);
@@ -123,7 +128,7 @@ static void compact_surface(const sink_state *st)
 
 /* Settle test of every unsettled point; *settled receives how many settled. */
 static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, float far_d2, float cos_w,
-				 size_t *settled, dp_error *err)
+				 float meet_shift, size_t *settled, dp_error *err)
 {
 	dp_status rc = dp_grid_build(&st->inner, st->n, st->q[0], st->q[1], st->q[2], radius, err);
 	if (rc != DP_OK)
@@ -147,12 +152,29 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
 	rc = dp_op_sink_front(ctx, &fa, err);
 	if (rc != DP_OK)
 		return rc;
+	dp_meet_args meet = {
+		.inner = &st->inner,
+		.sx = st->a[SURF_X_Q], .sy = st->a[SURF_Y_Q], .sz = st->a[SURF_Z_Q],
+		.nx = st->a[NORM_X_Q], .ny = st->a[NORM_Y_Q], .nz = st->a[NORM_Z_Q],
+		.radius = radius, .far_d2 = far_d2, .cos_w = cos_w, .max_shift = meet_shift,
+	};
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
-		if (st->a[C_OUT_X][j] <= cos_w)
-			st->settled[st->list[j]] = 1;
-		else
-			st->list[kept++] = st->list[j];
+		uint32_t i = st->list[j];
+		if (st->a[C_OUT_X][j] > cos_w) {
+			st->list[kept++] = i;
+			continue;
+		}
+		st->settled[i] = 1;
+		if (meet_shift > 0.0f) {
+			/* the grid holds copies: moving q_i changes no other point's test */
+			float q[3] = {st->q[0][i], st->q[1][i], st->q[2][i]};
+			float p[3] = {st->s->x[i], st->s->y[i], st->s->z[i]};
+			float n[3] = {st->s->nx[i], st->s->ny[i], st->s->nz[i]};
+			float shift = dp_meet_shift(&meet, q, p, n);
+			for (int c = 0; c < 3; c++)
+				st->q[c][i] -= shift * n[c];
+		}
 	}
 	*settled = st->nlist - kept;
 	st->nlist = kept;
@@ -314,7 +336,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 	for (int c = 0; c < 3; c++)
 		dp_grid_gather(&st->surface, nrm[c], st->a[NORM_X_S + c]);
 
-	float medial_margin = (float)(p->medial_margin_r * r);
+	float medial_margin = (float)(p->medial_margin_r * r), meet_shift = (float)(p->meet_shift_r * r);
 	if (medial_margin > 0.0f) {
 		rc = dp_knn_build(&st->surface_knn, st->n, s->x, s->y, s->z, err);
 		if (rc != DP_OK)
@@ -327,7 +349,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		if (st->nlist == 0)
 			break;
 		size_t by_front, by_medial = 0, by_slow;
-		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, &by_front, err);
+		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, meet_shift, &by_front, err);
 		if (rc == DP_OK)
 			rc = settle_past_medial(st, medial_margin, &by_medial, err);
 		if (rc == DP_OK)
