@@ -425,6 +425,13 @@ static void test_priors(void **state)
 		dp_surface_stats st;
 		run_stage(tk_cl_context(), &sc, &p, &out, eta, &st);
 		o[prior] = measure_prior(&out, eta);
+		/* All 800 inner ends at one spot: re-attachment scans it once;
+		 * scanning every copy would alone cost 800 pairs per point and
+		 * iteration (skeleton_grid in surface.c). */
+		double per_point = st.pair_evaluations / ((double)st.iterations * (double)sc.samples.n);
+		printf("prior %s: %.0f candidate pairs per point and iteration\n", prior ? "minimal" : "volume",
+		       per_point);
+		assert_true(per_point < (double)sc.samples.n);
 		printf("prior %s: %zu unsupported points at mean depth %.3f R below the equator, %.3f R from the "
 		       "centre; supported points %.4f R off the sphere; %d iterations\n",
 		       prior ? "minimal" : "volume", o[prior].unsupported, o[prior].depth, o[prior].radius,
