@@ -7,7 +7,7 @@
  *              [--data DIR] [--no-ops] [--no-statue]
  */
 #include "dpoints.h"
-#include "backend/wlop_ops.h"
+#include "backend/ops.h"
 #include "core/common.h"
 
 #include <math.h>

@@ -1,6 +1,6 @@
 /* Sinking operators (DESIGN 4.1); the specification is host/ref/sink_ref.c. */
 
-/* Same value as DP_SINK_NO_FRONT (host/backend/sink_ops.h). */
+/* Same value as DP_SINK_NO_FRONT (host/ops/operators.h). */
 #define SINK_NO_FRONT 2.0f
 
 /* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl),

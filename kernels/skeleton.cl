@@ -1,5 +1,5 @@
 /* Meso-skeleton operators (DESIGN 4.2); the specification is
- * host/ref/skeleton_ref.c, the argument meaning host/backend/skeleton_ops.h. */
+ * host/ref/skeleton_ref.c, the argument meaning host/ops/operators.h. */
 
 /* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl),
  * pairs outside a sum masked by select. */
@@ -94,7 +94,7 @@ __kernel void skeleton_semiaxes(const uint n, __global const float *qx, __global
 	float m0x = m_[0], m0y = m_[1], m0z = m_[2], m1x = m_[3], m1y = m_[4], m1z = m_[5]; \
 	float m2x = m_[6], m2y = m_[7], m2z = m_[8];
 
-/* The query's scan reach in cells along x, y, z (host/backend/skeleton_ops.h). */
+/* The query's scan reach in cells along x, y, z (host/ops/operators.h). */
 #define SKELETON_REACH_LOAD(reach, i)                                              \
 	int rx = grid_reach_cells((reach)[3 * (i)], grid_origin_cell.w, grid_dim.w);     \
 	int ry = grid_reach_cells((reach)[3 * (i) + 1], grid_origin_cell.w, grid_dim.w); \

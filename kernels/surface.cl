@@ -1,5 +1,5 @@
 /* Surface consolidation operators (DESIGN 4.3); the specification is
- * host/ref/surface_ref.c, the meanings are in host/backend/surface_ops.h. */
+ * host/ref/surface_ref.c, the meanings are in host/ops/operators.h. */
 
 /* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl); a
  * pair outside the sums is masked by select, never by a branch, so the lanes
@@ -7,10 +7,10 @@
  * exp clamped to the radius: the far lanes' exp would give denormals, which
  * are slow (kernels/skeleton.cl). */
 
-#define SURFACE_DATA_IN(live) ((live) & (d2 < rad2) & (dx * six + dy * siy + dz * siz + depth > 0.0f))
+#define SURFACE_DATA_IN(live) ((live) & (d2 < rad2) & (dx * six + dy * siy + dz * siz + qdepth > 0.0f))
 #define SURFACE_DATA_BODY(T, LOAD, k, live, s)                                                 \
 	{                                                                                      \
-		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
+		T dx = LOAD(gx, k) - ax, dy = LOAD(gy, k) - ay, dz = LOAD(gz, k) - az;        \
 		T d2 = dx * dx + dy * dy + dz * dz;                                            \
 		T theta = select((T)0.0f, exp(-fmin(d2, rad2) * inv_r * inv_r), SURFACE_DATA_IN(live));    \
 		eta##s += theta;                                                               \
@@ -22,39 +22,39 @@
 		sz##s += alpha * dz;                                                           \
 	}
 
-__kernel void surface_data(const uint n, __global const float *qx, __global const float *qy,
-			   __global const float *qz, __global const float *qsx, __global const float *qsy,
-			   __global const float *qsz, __global const float *qdepth, GRID_ARGS, const float radius,
-			   const float r, const float min_d2, __global float *eta_out, __global float *sum_alpha_out,
+__kernel void surface_data(const uint n, __global const float *px, __global const float *py,
+			   __global const float *pz, __global const float *sx, __global const float *sy,
+			   __global const float *sz, __global const float *depth, GRID_ARGS, const float radius,
+			   const float r, const float min_d2, __global float *eta, __global float *sum_alpha,
 			   __global float *ox, __global float *oy, __global float *oz)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
-	float px = qx[i], py = qy[i], pz = qz[i];
-	float six = qsx[i], siy = qsy[i], siz = qsz[i], depth = qdepth[i];
+	float ax = px[i], ay = py[i], az = pz[i];
+	float six = sx[i], siy = sy[i], siz = sz[i], qdepth = depth[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
 	LANE_T eta_v = 0.0f, sa_v = 0.0f, sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f;
 	float eta_s = 0.0f, sa_s = 0.0f, sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f;
-	GRID_PAIRS(px, py, pz, SURFACE_DATA_BODY)
-	float eta = 1.0f + LANE_SUM(eta_v) + eta_s, sa = LANE_SUM(sa_v) + sa_s;
-	float sx = LANE_SUM(sx_v) + sx_s, sy = LANE_SUM(sy_v) + sy_s, sz = LANE_SUM(sz_v) + sz_s;
-	eta_out[i] = eta;
-	sum_alpha_out[i] = sa;
-	ox[i] = sa > 0.0f ? sx / sa : 0.0f;
-	oy[i] = sa > 0.0f ? sy / sa : 0.0f;
-	oz[i] = sa > 0.0f ? sz / sa : 0.0f;
+	GRID_PAIRS(ax, ay, az, SURFACE_DATA_BODY)
+	float sa = LANE_SUM(sa_v) + sa_s;
+	float tx = LANE_SUM(sx_v) + sx_s, ty = LANE_SUM(sy_v) + sy_s, tz = LANE_SUM(sz_v) + sz_s;
+	eta[i] = 1.0f + LANE_SUM(eta_v) + eta_s;
+	sum_alpha[i] = sa;
+	ox[i] = sa > 0.0f ? tx / sa : 0.0f;
+	oy[i] = sa > 0.0f ? ty / sa : 0.0f;
+	oz[i] = sa > 0.0f ? tz / sa : 0.0f;
 }
 
 #define SURFACE_NB_IN(live, LOAD)                                                                    \
-	((live) & (d2 < rad2) & (nx * LOAD(gnx, k) + ny * LOAD(gny, k) + nz * LOAD(gnz, k) > side_cos))
+	((live) & (d2 < rad2) & (qnx * LOAD(gnx, k) + qny * LOAD(gny, k) + qnz * LOAD(gnz, k) > side_cos))
 #define SURFACE_NB_BODY(T, LOAD, k, live, s)                                                   \
 	{                                                                                      \
-		T dx = px - LOAD(gx, k), dy = py - LOAD(gy, k), dz = pz - LOAD(gz, k);        \
+		T dx = ax - LOAD(gx, k), dy = ay - LOAD(gy, k), dz = az - LOAD(gz, k);        \
 		T d2 = dx * dx + dy * dy + dz * dz;                                            \
 		T one = select((T)0.0f, (T)1.0f, SURFACE_NB_IN(live, LOAD));                         \
 		T theta = one * exp(-fmin(d2, rad2) * inv_r * inv_r);                                      \
-		T dl = LOAD(glen, k) - len;                                                    \
+		T dl = LOAD(glen, k) - qlen;                                                   \
 		T dlr = one * (dl * inv_r);                                                    \
 		cx##s -= theta * dx;                                                           \
 		cy##s -= theta * dy;                                                           \
@@ -65,8 +65,8 @@ __kernel void surface_data(const uint n, __global const float *qx, __global cons
 		st##s += theta;                                                                \
 		stl##s += theta * dl;                                                          \
 		nn2##s = select(nn2##s, fmin(nn2##s, d2), SURFACE_NB_IN(live, LOAD) & (d2 >= min_d2)); \
-		T dn = dx * nx + dy * ny + dz * nz;                                            \
-		T tx = dx - dn * nx, ty = dy - dn * ny, tz = dz - dn * nz;                     \
+		T dn = dx * qnx + dy * qny + dz * qnz;                                         \
+		T tx = dx - dn * qnx, ty = dy - dn * qny, tz = dz - dn * qnz;                  \
 		T t = fmax(sqrt(tx * tx + ty * ty + tz * tz) * inv_r, tfloor);                 \
 		T beta = select((T)0.0f, theta / (t * t * t * t * t),                          \
 				SURFACE_NB_IN(live, LOAD) & (d2 >= min_d2));                          \
@@ -76,20 +76,20 @@ __kernel void surface_data(const uint n, __global const float *qx, __global cons
 		bz##s += beta * tz;                                                            \
 	}
 
-__kernel void surface_neighbour(const uint n, __global const float *qx, __global const float *qy,
-				__global const float *qz, __global const float *qnx, __global const float *qny,
-				__global const float *qnz, __global const float *qlen, GRID_ARGS,
+__kernel void surface_neighbour(const uint n, __global const float *px, __global const float *py,
+				__global const float *pz, __global const float *nx, __global const float *ny,
+				__global const float *nz, __global const float *len, GRID_ARGS,
 				__global const float *glen, __global const float *gnx, __global const float *gny,
 				__global const float *gnz, const float radius, const float r, const float min_d2,
-				const float tfloor, const float side_cos, __global float *L_out, __global float *var_out,
-				__global float *rx, __global float *ry, __global float *rz, __global float *nn_out,
+				const float tfloor, const float side_cos, __global float *L, __global float *var,
+				__global float *rx, __global float *ry, __global float *rz, __global float *nn,
 				__global float *mx, __global float *my, __global float *mz)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
-	float px = qx[i], py = qy[i], pz = qz[i];
-	float nx = qnx[i], ny = qny[i], nz = qnz[i], len = qlen[i];
+	float ax = px[i], ay = py[i], az = pz[i];
+	float qnx = nx[i], qny = ny[i], qnz = nz[i], qlen = len[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
 	LANE_T count_v = 0.0f, sd_v = 0.0f, sd2_v = 0.0f, st_v = 0.0f, stl_v = 0.0f;
 	LANE_T sb_v = 0.0f, bx_v = 0.0f, by_v = 0.0f, bz_v = 0.0f, nn2_v = rad2;
@@ -97,19 +97,19 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 	float count_s = 0.0f, sd_s = 0.0f, sd2_s = 0.0f, st_s = 0.0f, stl_s = 0.0f;
 	float sb_s = 0.0f, bx_s = 0.0f, by_s = 0.0f, bz_s = 0.0f, nn2_s = rad2;
 	float cx_s = 0.0f, cy_s = 0.0f, cz_s = 0.0f;
-	GRID_PAIRS(px, py, pz, SURFACE_NB_BODY)
+	GRID_PAIRS(ax, ay, az, SURFACE_NB_BODY)
 	float count = LANE_SUM(count_v) + count_s, sd = LANE_SUM(sd_v) + sd_s, sd2 = LANE_SUM(sd2_v) + sd2_s;
 	float st = LANE_SUM(st_v) + st_s, stl = LANE_SUM(stl_v) + stl_s, sb = LANE_SUM(sb_v) + sb_s;
 	float bx = LANE_SUM(bx_v) + bx_s, by = LANE_SUM(by_v) + by_s, bz = LANE_SUM(bz_v) + bz_s;
 	float cx = LANE_SUM(cx_v) + cx_s, cy = LANE_SUM(cy_v) + cy_s, cz = LANE_SUM(cz_v) + cz_s;
 	float nn2 = fmin(LANE_MIN(nn2_v), nn2_s);
 	float mean = count > 0.0f ? sd / count : 0.0f;
-	L_out[i] = st > 0.0f ? len + stl / st : len;
-	var_out[i] = count > 0.0f ? fmax(sd2 / count - mean * mean, 0.0f) : 0.0f;
+	L[i] = st > 0.0f ? qlen + stl / st : qlen;
+	var[i] = count > 0.0f ? fmax(sd2 / count - mean * mean, 0.0f) : 0.0f;
 	rx[i] = sb > 0.0f ? bx / sb : 0.0f;
 	ry[i] = sb > 0.0f ? by / sb : 0.0f;
 	rz[i] = sb > 0.0f ? bz / sb : 0.0f;
-	nn_out[i] = sqrt(nn2);
+	nn[i] = sqrt(nn2);
 	mx[i] = st > 0.0f ? cx / st : 0.0f;
 	my[i] = st > 0.0f ? cy / st : 0.0f;
 	mz[i] = st > 0.0f ? cz / st : 0.0f;
@@ -117,10 +117,10 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 
 #define SURFACE_COV_BODY(T, LOAD, k, live, s)                                                  \
 	{                                                                                      \
-		T dx = LOAD(gx, k) - px, dy = LOAD(gy, k) - py, dz = LOAD(gz, k) - pz;        \
+		T dx = LOAD(gx, k) - ax, dy = LOAD(gy, k) - ay, dz = LOAD(gz, k) - az;        \
 		T one = select((T)0.0f, (T)1.0f,                                               \
 			       (live) & (dx * dx + dy * dy + dz * dz < rad2) &                 \
-				       (nx * LOAD(gnx, k) + ny * LOAD(gny, k) + nz * LOAD(gnz, k) > side_cos)); \
+				       (qnx * LOAD(gnx, k) + qny * LOAD(gny, k) + qnz * LOAD(gnz, k) > side_cos)); \
 		dx *= one * inv_r;                                                             \
 		dy *= one * inv_r;                                                             \
 		dz *= one * inv_r;                                                             \
@@ -136,23 +136,23 @@ __kernel void surface_neighbour(const uint n, __global const float *qx, __global
 		czz##s += dz * dz;                                                             \
 	}
 
-__kernel void surface_covariance(const uint n, __global const float *qx, __global const float *qy,
-				 __global const float *qz, __global const float *qnx, __global const float *qny,
-				 __global const float *qnz, GRID_ARGS, __global const float *gnx,
+__kernel void surface_covariance(const uint n, __global const float *px, __global const float *py,
+				 __global const float *pz, __global const float *nx, __global const float *ny,
+				 __global const float *nz, GRID_ARGS, __global const float *gnx,
 				 __global const float *gny, __global const float *gnz, const float radius,
 				 const float r, const float side_cos, __global float *cov)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
-	float px = qx[i], py = qy[i], pz = qz[i];
-	float nx = qnx[i], ny = qny[i], nz = qnz[i];
+	float ax = px[i], ay = py[i], az = pz[i];
+	float qnx = nx[i], qny = ny[i], qnz = nz[i];
 	float rad2 = radius * radius, inv_r = 1.0f / r;
 	LANE_T cnt_v = 0.0f, mx_v = 0.0f, my_v = 0.0f, mz_v = 0.0f;
 	LANE_T cxx_v = 0.0f, cxy_v = 0.0f, cxz_v = 0.0f, cyy_v = 0.0f, cyz_v = 0.0f, czz_v = 0.0f;
 	float cnt_s = 0.0f, mx_s = 0.0f, my_s = 0.0f, mz_s = 0.0f;
 	float cxx_s = 0.0f, cxy_s = 0.0f, cxz_s = 0.0f, cyy_s = 0.0f, cyz_s = 0.0f, czz_s = 0.0f;
-	GRID_PAIRS(px, py, pz, SURFACE_COV_BODY)
+	GRID_PAIRS(ax, ay, az, SURFACE_COV_BODY)
 	float cnt = LANE_SUM(cnt_v) + cnt_s;
 	float mx = LANE_SUM(mx_v) + mx_s, my = LANE_SUM(my_v) + my_s, mz = LANE_SUM(mz_v) + mz_s;
 	float cxx = LANE_SUM(cxx_v) + cxx_s, cxy = LANE_SUM(cxy_v) + cxy_s, cxz = LANE_SUM(cxz_v) + cxz_s;
@@ -180,10 +180,10 @@ __kernel void surface_covariance(const uint n, __global const float *qx, __globa
 #define SURFACE_REATTACH_BODY(T, LOAD, k, live, s)                                             \
 	{                                                                                      \
 		T hx = LOAD(gx, k), hy = LOAD(gy, k), hz = LOAD(gz, k);                        \
-		T ex = hx - qx, ey = hy - qy, ez = hz - qz;                                    \
-		T vx = px - hx, vy = py - hy, vz = pz - hz;                                    \
-		T t = vx * nx + vy * ny + vz * nz;                                             \
-		T wx = vx - t * nx, wy = vy - t * ny, wz = vz - t * nz;                        \
+		T ex = hx - iqx, ey = hy - iqy, ez = hz - iqz;                                 \
+		T vx = ipx - hx, vy = ipy - hy, vz = ipz - hz;                                 \
+		T t = vx * inx + vy * iny + vz * inz;                                          \
+		T wx = vx - t * inx, wy = vy - t * iny, wz = vz - t * inz;                     \
 		T line2 = wx * wx + wy * wy + wz * wz;                                         \
 		bool_##s better = (live) & (ex * ex + ey * ey + ez * ez < rad2) & (t > 0.0f) & \
 				  (line2 < bd##s);                                              \
@@ -193,35 +193,35 @@ __kernel void surface_covariance(const uint n, __global const float *qx, __globa
 #define bool__v LANE_I
 #define bool__s int
 
-__kernel void surface_reattach(const uint n, __global const float *iqx, __global const float *iqy,
-			       __global const float *iqz, __global const float *ipx, __global const float *ipy,
-			       __global const float *ipz, __global const float *inx, __global const float *iny,
-			       __global const float *inz, GRID_ARGS, const float radius, const float r,
-			       __global int *best_out, __global float *dist2_out)
+__kernel void surface_reattach(const uint n, __global const float *qx, __global const float *qy,
+			       __global const float *qz, __global const float *px, __global const float *py,
+			       __global const float *pz, __global const float *nx, __global const float *ny,
+			       __global const float *nz, GRID_ARGS, const float radius, const float r,
+			       __global int *best, __global float *dist2)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
-	float qx = iqx[i], qy = iqy[i], qz = iqz[i];
-	float px = ipx[i], py = ipy[i], pz = ipz[i];
-	float nx = inx[i], ny = iny[i], nz = inz[i];
+	float iqx = qx[i], iqy = qy[i], iqz = qz[i];
+	float ipx = px[i], ipy = py[i], ipz = pz[i];
+	float inx = nx[i], iny = ny[i], inz = nz[i];
 	float rad2 = radius * radius;
 	LANE_T bd_v = INFINITY;
 	LANE_I bk_v = -1;
 	float bd_s = INFINITY;
 	int bk_s = -1;
-	GRID_PAIRS(qx, qy, qz, SURFACE_REATTACH_BODY)
+	GRID_PAIRS(iqx, iqy, iqz, SURFACE_REATTACH_BODY)
 	float bd[DP_LANES];
 	int bk[DP_LANES];
 	LANE_STORE(bd_v, bd);
 	LANE_STORE_I(bk_v, bk);
-	int best = bk_s;
+	int bi = bk_s;
 	float best_d2 = bd_s;
 	for (int l = 0; l < DP_LANES; l++)
-		if (bk[l] >= 0 && (best < 0 || bd[l] < best_d2 || (bd[l] == best_d2 && bk[l] < best))) {
-			best = bk[l];
+		if (bk[l] >= 0 && (bi < 0 || bd[l] < best_d2 || (bd[l] == best_d2 && bk[l] < bi))) {
+			bi = bk[l];
 			best_d2 = bd[l];
 		}
-	best_out[i] = best;
-	dist2_out[i] = best < 0 ? 0.0f : best_d2 / (r * r);
+	best[i] = bi;
+	dist2[i] = bi < 0 ? 0.0f : best_d2 / (r * r);
 }

@@ -1,9 +1,9 @@
 /* Every sinking kernel equals its scalar reference (kernels/sink.cl vs
  * host/ref/sink_ref.c), and the reference equals a brute-force evaluation of
- * its definition (host/backend/sink_ops.h) over all pairs. */
+ * its definition (host/ops/operators.h) over all pairs. */
 #include "testkit.h"
 
-#include "backend/sink_ops.h"
+#include "backend/ops.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -5,7 +5,7 @@
  * every point of the ellipsoid: the reference equals an all-pairs sum. */
 #include "testkit.h"
 
-#include "backend/skeleton_ops.h"
+#include "backend/ops.h"
 #include "core/eig3.h"
 
 #include <math.h>
@@ -173,7 +173,7 @@ static void test_semiaxes(void **state)
 		const queries *q = sets[s];
 		float *ref = alloc_out(3 * q->m), *cl = alloc_out(3 * q->m);
 		dp_skeleton_semiaxes_args a = {
-			.data = &f->near, .nx = f->gnx, .ny = f->gny, .nz = f->gnz, .nq = q->m, .qx = q->x,
+			.data = &f->near, .gnx = f->gnx, .gny = f->gny, .gnz = f->gnz, .nq = q->m, .qx = q->x,
 			.qy = q->y, .qz = q->z, .frames = q->frames, .radius = OPS_NEAR, .eps = 0.1f, .semi = ref,
 		};
 		dp_error err = {0};

@@ -4,7 +4,7 @@
  * (self pairs and exact duplicates) and normals of every direction. */
 #include "testkit.h"
 
-#include "backend/surface_ops.h"
+#include "backend/ops.h"
 
 #include <math.h>
 #include <stdlib.h>

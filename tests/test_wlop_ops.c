@@ -2,7 +2,7 @@
  * (kernels/wlop.cl) against host/ref/wlop_ref.c. */
 #include "testkit.h"
 
-#include "backend/wlop_ops.h"
+#include "backend/ops.h"
 
 #include <math.h>
 #include <stdlib.h>

@@ -1,5 +1,7 @@
 #include "backend/context.h"
 
+#include "backend/ops.h"
+
 #include "core/common.h"
 
 #include <stdlib.h>
@@ -16,6 +18,8 @@ dp_status dp_context_create(dp_context **out, dp_backend_kind kind, const char *
 	ctx->started = dp_seconds();
 	if (kind == DP_BACKEND_CL) {
 		dp_status st = dp_cl_open(&ctx->cl, device, err);
+		if (st == DP_OK && (st = dp_ops_check_kernels(&ctx->cl, err)) != DP_OK)
+			dp_cl_close(&ctx->cl);
 		if (st != DP_OK) {
 			free(ctx);
 			return st;

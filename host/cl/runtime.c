@@ -340,3 +340,75 @@ void dp_cl_grid_args(const dp_grid *g, dp_cl_grid_storage *s, dp_cl_arg out[DP_C
 	out[5] = DP_CL_VALUE(s->origin_cell);
 	out[6] = DP_CL_VALUE(s->dim);
 }
+
+void dp_cl_grid_params(dp_cl_param out[DP_CL_GRID_NARGS])
+{
+	out[0] = (dp_cl_param){"gx", "float*", DP_CL_PARAM_GLOBAL_CONST};
+	out[1] = (dp_cl_param){"gy", "float*", DP_CL_PARAM_GLOBAL_CONST};
+	out[2] = (dp_cl_param){"gz", "float*", DP_CL_PARAM_GLOBAL_CONST};
+	out[3] = (dp_cl_param){"cell_start", "uint*", DP_CL_PARAM_GLOBAL_CONST};
+	out[4] = (dp_cl_param){"cell_count", "uint*", DP_CL_PARAM_GLOBAL_CONST};
+	out[5] = (dp_cl_param){"grid_origin_cell", "float4", DP_CL_PARAM_VALUE};
+	out[6] = (dp_cl_param){"grid_dim", "int4", DP_CL_PARAM_VALUE};
+}
+
+static const char *space_name(dp_cl_param_space s)
+{
+	return s == DP_CL_PARAM_VALUE ? "by value" : s == DP_CL_PARAM_GLOBAL_CONST ? "__global const" : "__global";
+}
+
+/* The address space of argument a as a dp_cl_param_space; *space is left at
+ * an impossible value for __local and __constant (no table row uses them). */
+static cl_int arg_space(cl_kernel k, cl_uint a, int *space)
+{
+	cl_kernel_arg_address_qualifier aq;
+	cl_kernel_arg_type_qualifier tq;
+	cl_int rc = clGetKernelArgInfo(k, a, CL_KERNEL_ARG_ADDRESS_QUALIFIER, sizeof aq, &aq, NULL);
+	if (rc == CL_SUCCESS)
+		rc = clGetKernelArgInfo(k, a, CL_KERNEL_ARG_TYPE_QUALIFIER, sizeof tq, &tq, NULL);
+	if (rc != CL_SUCCESS)
+		return rc;
+	if (aq == CL_KERNEL_ARG_ADDRESS_PRIVATE)
+		*space = DP_CL_PARAM_VALUE;
+	else if (aq == CL_KERNEL_ARG_ADDRESS_GLOBAL)
+		*space = (tq & CL_KERNEL_ARG_TYPE_CONST) ? DP_CL_PARAM_GLOBAL_CONST : DP_CL_PARAM_GLOBAL;
+	else
+		*space = -1;
+	return CL_SUCCESS;
+}
+
+dp_status dp_cl_check_signature(dp_cl *cl, const char *name, const dp_cl_param *want, size_t nwant,
+				dp_error *err)
+{
+	cl_kernel k;
+	dp_status st = dp_cl_kernel(cl, name, &k, err);
+	if (st != DP_OK)
+		return st;
+	cl_uint nargs = 0;
+	CHECK(clGetKernelInfo(k, CL_KERNEL_NUM_ARGS, sizeof nargs, &nargs, NULL), "clGetKernelInfo");
+	if (nargs != nwant)
+		return dp_fail(err, DP_ERR_KERNEL_BUILD,
+			       "OpenCL: kernel %s takes %u arguments, its operator table row %zu", name, nargs, nwant);
+	for (cl_uint a = 0; a < nargs; a++) {
+		/* Names and type names are spelled as declared with blanks
+		 * removed ("float*", PoCL 3.1 and the OpenCL 1.2 spec alike);
+		 * const comes as a type qualifier, which the spec defines for
+		 * pointed-to types only, so it is compared for arrays alone. */
+		char aname[128] = "", atype[128] = "";
+		int space = 0;
+		cl_int rc = clGetKernelArgInfo(k, a, CL_KERNEL_ARG_NAME, sizeof aname, aname, NULL);
+		if (rc == CL_SUCCESS)
+			rc = clGetKernelArgInfo(k, a, CL_KERNEL_ARG_TYPE_NAME, sizeof atype, atype, NULL);
+		if (rc == CL_SUCCESS)
+			rc = arg_space(k, a, &space);
+		CHECK(rc, "clGetKernelArgInfo (the program needs -cl-kernel-arg-info)");
+		const dp_cl_param *w = &want[a];
+		if (strcmp(aname, w->name) || strcmp(atype, w->type) || space != (int)w->space)
+			return dp_fail(err, DP_ERR_KERNEL_BUILD,
+				       "OpenCL: kernel %s argument %u is %s %s %s, its operator table row says %s %s %s",
+				       name, a, space >= 0 ? space_name((dp_cl_param_space)space) : "__local/__constant",
+				       atype, aname, space_name(w->space), w->type, w->name);
+	}
+cleanup:
+	return st;
+}

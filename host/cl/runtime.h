@@ -14,8 +14,9 @@
 #define DP_CL_LOCAL_SIZE 64
 /* Options every program is built with: PoCL vectorises exp() across
  * work-items only with unsafe math, and -cl-fast-relaxed-math would also
- * assume no NaN/Inf (DESIGN §3). */
-#define DP_CL_BUILD_OPTIONS "-cl-std=CL1.2 -cl-unsafe-math-optimizations"
+ * assume no NaN/Inf (DESIGN §3); -cl-kernel-arg-info keeps the argument names
+ * and types for dp_cl_check_signature. */
+#define DP_CL_BUILD_OPTIONS "-cl-std=CL1.2 -cl-unsafe-math-optimizations -cl-kernel-arg-info"
 #define DP_CL_MAX_KERNELS 64
 /* Device buffers kept across launches (dp_cl_launch): at most this many, and
  * beyond this many bytes the least recently used ones not needed by the launch
@@ -128,5 +129,28 @@ typedef struct dp_cl_grid_storage {
 	cl_int4 dim;
 } dp_cl_grid_storage;
 void dp_cl_grid_args(const dp_grid *g, dp_cl_grid_storage *storage, dp_cl_arg out[DP_CL_GRID_NARGS]);
+
+/* One kernel argument as a kernel must declare it. */
+typedef enum dp_cl_param_space {
+	DP_CL_PARAM_VALUE,        /* passed by value (private) */
+	DP_CL_PARAM_GLOBAL_CONST, /* __global const T * */
+	DP_CL_PARAM_GLOBAL        /* __global T * */
+} dp_cl_param_space;
+
+typedef struct dp_cl_param {
+	const char *name;
+	const char *type; /* OpenCL type name without qualifiers or blanks: "float*", "uint" */
+	dp_cl_param_space space;
+} dp_cl_param;
+
+/* The DP_CL_GRID_NARGS arguments of GRID_ARGS (kernels/grid.cl). */
+void dp_cl_grid_params(dp_cl_param out[DP_CL_GRID_NARGS]);
+
+/* Checks kernel `name` of cl's program (built with -cl-kernel-arg-info)
+ * against the expected arguments: their number, then each one's name, type
+ * name, address space and const. DP_ERR_KERNEL_BUILD naming the kernel and the
+ * first difference, or DP_ERR_CL when the device gives no argument info. */
+dp_status dp_cl_check_signature(dp_cl *cl, const char *name, const dp_cl_param *want, size_t nwant,
+				dp_error *err);
 
 #endif

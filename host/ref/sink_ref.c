@@ -1,6 +1,6 @@
 /* Scalar reference of the sinking operators: the specification the kernels in
  * kernels/sink.cl must match. */
-#include "backend/sink_ops.h"
+#include "ops/operators.h"
 
 #include <math.h>
 

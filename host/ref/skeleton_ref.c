@@ -1,6 +1,6 @@
 /* Scalar reference of the meso-skeleton operators: the specification the
  * kernels in kernels/skeleton.cl must match. */
-#include "backend/skeleton_ops.h"
+#include "ops/operators.h"
 
 #include <math.h>
 
@@ -62,8 +62,8 @@ void dp_ref_skeleton_semiaxes(const dp_skeleton_semiaxes_args *a)
 					continue;
 				c += 1.0f;
 				for (int m = 0; m < 3; m++)
-					s[m] += fabsf(a->nx[k] * v[3 * m] + a->ny[k] * v[3 * m + 1] +
-						      a->nz[k] * v[3 * m + 2]);
+					s[m] += fabsf(a->gnx[k] * v[3 * m] + a->gny[k] * v[3 * m + 1] +
+						      a->gnz[k] * v[3 * m + 2]);
 			}
 		for (int m = 0; m < 3; m++)
 			a->semi[3 * i + m] = 1.0f / ((c > 0.0f ? s[m] / c : 0.0f) + a->eps);

@@ -1,7 +1,7 @@
 /* Scalar reference of the surface consolidation operators: the specification
  * the kernels in kernels/surface.cl must match (meanings in
- * host/backend/surface_ops.h). */
-#include "backend/surface_ops.h"
+ * host/ops/operators.h). */
+#include "ops/operators.h"
 
 #include <math.h>
 

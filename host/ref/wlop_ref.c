@@ -1,6 +1,6 @@
 /* Scalar reference of the WLOP operators: the specification the kernels in
  * kernels/wlop.cl must match. */
-#include "backend/wlop_ops.h"
+#include "ops/operators.h"
 
 #include <math.h>
 

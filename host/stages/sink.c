@@ -2,8 +2,8 @@
  * and move against the normals, smoothed over the static neighbourhood P_i,
  * until they meet an opposing front or slow down. The settled inner points are
  * the anchors H. The math is stated once, in dpoints.h beside dp_sink; the
- * neighbour sums are the operators of backend/sink_ops.h. */
-#include "backend/sink_ops.h"
+ * neighbour sums are the operators of host/ops/operators.h. */
+#include "backend/ops.h"
 #include "stages/meet.h"
 #include "core/common.h"
 #include "knn/knn.h"

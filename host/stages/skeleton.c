@@ -2,11 +2,11 @@
  * and is moved by the anisotropic L1-median of the anchors plus a repulsion
  * projected onto the long axes of each point's ellipsoid. The exact update is
  * documented at dp_skeleton in dpoints.h; every neighbour sum is an operator
- * (host/backend/skeleton_ops.h), the O(n) combination steps (eigen-
+ * (host/ops/operators.h), the O(n) combination steps (eigen-
  * decomposition, metric, projection and update) run here for both backends. */
 #include "dpoints.h"
 
-#include "backend/skeleton_ops.h"
+#include "backend/ops.h"
 #include "core/common.h"
 #include "core/eig3.h"
 
@@ -236,7 +236,7 @@ static dp_status iterate(dp_context *ctx, const dp_cloud *h, dp_cloud *q, double
 	dp_grid_gather(&w->near, w->uy, w->gny);
 	dp_grid_gather(&w->near, w->uz, w->gnz);
 	dp_skeleton_semiaxes_args sa = {
-		.data = &w->near, .nx = w->gnx, .ny = w->gny, .nz = w->gnz, .nq = n, .qx = w->near.x,
+		.data = &w->near, .gnx = w->gnx, .gny = w->gny, .gnz = w->gnz, .nq = n, .qx = w->near.x,
 		.qy = w->near.y, .qz = w->near.z, .frames = w->frames, .radius = near_radius, .eps = (float)p->eps,
 		.semi = w->semi,
 	};

@@ -1,6 +1,6 @@
 /* Surface point consolidation (paper 4.3, DESIGN 4.3): the position update,
  * normal update, re-attachment and stopping test, on the host; every
- * neighbour sum is an operator of host/backend/surface_ops.h.
+ * neighbour sum is an operator of host/ops/operators.h.
  *
  * One iteration: (1) dpoint lengths, data and neighbourhood passes at p;
  * (2) slide p += μ̂R; (3) re-attach q at the slid p; (4) data and prior step at
@@ -25,7 +25,7 @@
  * data term holds the points (the pull is the curvature offset of P_i, a
  * fraction of r); where there is no input it flattens the closure between
  * the scanned rims. */
-#include "backend/surface_ops.h"
+#include "backend/ops.h"
 #include "core/common.h"
 #include "core/distinct.h"
 #include "core/eig3.h"

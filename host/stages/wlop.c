@@ -16,7 +16,7 @@
  * settled (0.278, 0.237, 0.235). So WLOP also stops when the mean move is
  * below stall_tol and has fallen by less than min_drop over the last window
  * of iterations (statue: about 60 iterations, variation 0.245). */
-#include "backend/wlop_ops.h"
+#include "backend/ops.h"
 #include "core/common.h"
 #include "core/distinct.h"
 #include "knn/knn.h"
