@@ -6,6 +6,7 @@
 #include "backend/ops.h"
 #include "stages/meet.h"
 #include "core/common.h"
+#include "knn/kdtree.h"
 #include "knn/knn.h"
 
 #include <math.h>
@@ -97,10 +98,7 @@ typedef struct sink_state {
 	uint32_t *list;       /* the unsettled points of the current pass */
 	size_t nlist;
 	dp_grid inner, surface;
-	dp_knn surface_knn;   /* nearest surface point of an inner point (medial test) */
-	uint32_t *nn_who;     /* n each: scratch of the medial test */
-	int *nn_index;
-	float *nn_d2;
+	dp_kdtree surface_tree; /* the surface points, for the medial test */
 } sink_state;
 
 static void collect_unsettled(sink_state *st)
@@ -187,48 +185,29 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
  * far side was never scanned (a one-sided scan of a pole or a wing): there
  * nothing settles, the steps never shrink, and measured on such scans the
  * deep points ended ~100 r long. The scanned sides of the same part still
- * bound the ball. Distances are exact (FLANN), on the host. */
-static dp_status settle_past_medial(sink_state *st, float margin, size_t *settled, dp_error *err)
+ * bound the ball. Distances are exact, on the host: the ball of radius
+ * depth - margin around the inner point must hold no surface point. */
+static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 {
 	*settled = 0;
 	if (!(margin > 0.0f))
-		return DP_OK;
-	/* only points deeper than the margin can be past the axis by more */
-	float *qx = st->a[C_OUT_X], *qy = st->a[C_OUT_Y], *qz = st->a[C_OUT_Z], *depth = st->a[C_OUT_W];
-	size_t m = 0;
-	uint32_t *who = st->nn_who;
+		return;
+	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
-		float dx = st->q[0][i] - st->s->x[i], dy = st->q[1][i] - st->s->y[i], dz = st->q[2][i] - st->s->z[i];
+		float qx = st->q[0][i], qy = st->q[1][i], qz = st->q[2][i];
+		float dx = qx - st->s->x[i], dy = qy - st->s->y[i], dz = qz - st->s->z[i];
 		float d = sqrtf(dx * dx + dy * dy + dz * dz);
-		if (d <= margin)
-			continue;
-		qx[m] = st->q[0][i];
-		qy[m] = st->q[1][i];
-		qz[m] = st->q[2][i];
-		depth[m] = d;
-		who[m++] = i;
-	}
-	if (m == 0)
-		return DP_OK;
-	dp_status rc = dp_knn_query(&st->surface_knn, m, qx, qy, qz, 1, st->nn_index, st->nn_d2, err);
-	if (rc != DP_OK)
-		return rc;
-	for (size_t k = 0; k < m; k++) {
-		float limit = depth[k] - margin;
-		if (st->nn_d2[k] < limit * limit) {
-			st->settled[who[k]] = 1;
+		/* only points deeper than the margin can be past the axis by more */
+		float limit = d - margin;
+		if (d > margin && dp_kdtree_any_within(&st->surface_tree, qx, qy, qz, limit * limit)) {
+			st->settled[i] = 1;
 			(*settled)++;
+		} else {
+			st->list[kept++] = i;
 		}
 	}
-	if (*settled) {
-		size_t kept = 0;
-		for (size_t j = 0; j < st->nlist; j++)
-			if (!st->settled[st->list[j]])
-				st->list[kept++] = st->list[j];
-		st->nlist = kept;
-	}
-	return DP_OK;
+	st->nlist = kept;
 }
 
 /* Step lengths t of the unsettled points into C_STEP (compacted); points whose
@@ -338,7 +317,10 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 
 	float medial_margin = (float)(p->medial_margin_r * r), meet_shift = (float)(p->meet_shift_r * r);
 	if (medial_margin > 0.0f) {
-		rc = dp_knn_build(&st->surface_knn, st->n, s->x, s->y, s->z, err);
+		/* squared distances must not overflow (the test compares them) */
+		rc = dp_check_span("sink", st->n, s->x, s->y, s->z, err);
+		if (rc == DP_OK)
+			rc = dp_kdtree_build(&st->surface_tree, st->n, s->x, s->y, s->z, err);
 		if (rc != DP_OK)
 			return rc;
 	}
@@ -350,10 +332,10 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			break;
 		size_t by_front, by_medial = 0, by_slow;
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, meet_shift, &by_front, err);
-		if (rc == DP_OK)
-			rc = settle_past_medial(st, medial_margin, &by_medial, err);
-		if (rc == DP_OK)
+		if (rc == DP_OK) {
+			settle_past_medial(st, medial_margin, &by_medial);
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, &by_slow, err);
+		}
 		if (rc == DP_OK)
 			rc = sink_and_smooth(ctx, st, static_radius, inv_r2, phi_scale, err);
 		if (rc != DP_OK)
@@ -407,10 +389,7 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	st.block = dp_alloc_array(st.n, NARRAYS * sizeof(float));
 	st.settled = calloc(st.n, 1);
 	st.list = dp_alloc_array(st.n, sizeof *st.list);
-	st.nn_who = dp_alloc_array(st.n, sizeof *st.nn_who);
-	st.nn_index = dp_alloc_array(st.n, sizeof *st.nn_index);
-	st.nn_d2 = dp_alloc_array(st.n, sizeof *st.nn_d2);
-	if (!st.block || !st.settled || !st.list || !st.nn_who || !st.nn_index || !st.nn_d2) {
+	if (!st.block || !st.settled || !st.list) {
 		rc = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", st.n);
 	} else {
 		for (int k = 0; k < NARRAYS; k++)
@@ -421,11 +400,7 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	free(st.block);
 	free(st.settled);
 	free(st.list);
-	free(st.nn_who);
-	free(st.nn_index);
-	free(st.nn_d2);
-	if (st.surface_knn.index)
-		dp_knn_free(&st.surface_knn);
+	dp_kdtree_free(&st.surface_tree);
 	dp_grid_free(&st.inner);
 	dp_grid_free(&st.surface);
 	if (rc != DP_OK) {

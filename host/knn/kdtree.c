@@ -1,0 +1,140 @@
+#include "knn/kdtree.h"
+
+#include "core/common.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+/* Nodes of at most this many points are scanned, not split: below it a split
+ * test costs more than the distance tests it saves. */
+#define KDTREE_LEAF 8
+
+typedef struct keyed {
+	float key;
+	uint32_t index;
+} keyed;
+
+static int by_key(const void *a, const void *b)
+{
+	float ka = ((const keyed *)a)->key, kb = ((const keyed *)b)->key;
+	return (ka > kb) - (ka < kb);
+}
+
+/* Orders order[lo, hi) (indices into the caller's arrays) as the subtree
+ * over them: the median point at the middle, the points not above it along
+ * the node's axis before it, the points not below it after. */
+static void build_node(dp_kdtree *t, const float *const src[3], uint32_t *order, keyed *scratch, size_t lo,
+		       size_t hi)
+{
+	if (hi - lo <= KDTREE_LEAF)
+		return;
+	float lo_v[3], hi_v[3];
+	for (int a = 0; a < 3; a++)
+		lo_v[a] = hi_v[a] = src[a][order[lo]];
+	for (size_t k = lo + 1; k < hi; k++)
+		for (int a = 0; a < 3; a++) {
+			float v = src[a][order[k]];
+			lo_v[a] = v < lo_v[a] ? v : lo_v[a];
+			hi_v[a] = v > hi_v[a] ? v : hi_v[a];
+		}
+	int axis = 0;
+	for (int a = 1; a < 3; a++)
+		if (hi_v[a] - lo_v[a] > hi_v[axis] - lo_v[axis])
+			axis = a;
+	for (size_t k = lo; k < hi; k++)
+		scratch[k - lo] = (keyed){src[axis][order[k]], order[k]};
+	qsort(scratch, hi - lo, sizeof *scratch, by_key);
+	for (size_t k = lo; k < hi; k++)
+		order[k] = scratch[k - lo].index;
+	size_t mid = lo + (hi - lo) / 2;
+	t->axis[mid] = (unsigned char)axis;
+	build_node(t, src, order, scratch, lo, mid);
+	build_node(t, src, order, scratch, mid + 1, hi);
+}
+
+dp_status dp_kdtree_build(dp_kdtree *t, size_t n, const float *x, const float *y, const float *z, dp_error *err)
+{
+	memset(t, 0, sizeof *t);
+	if (n > UINT32_MAX)
+		return dp_fail(err, DP_ERR_ARG, "kd-tree: cannot index %zu points", n);
+	uint32_t *order = dp_alloc_array(n, sizeof *order);
+	keyed *scratch = dp_alloc_array(n, sizeof *scratch);
+	t->x = dp_alloc_array(n, sizeof(float));
+	t->y = dp_alloc_array(n, sizeof(float));
+	t->z = dp_alloc_array(n, sizeof(float));
+	t->axis = calloc(n ? n : 1, 1);
+	if (!order || !scratch || !t->x || !t->y || !t->z || !t->axis) {
+		free(order);
+		free(scratch);
+		dp_kdtree_free(t);
+		return dp_fail(err, DP_ERR_NOMEM, "kd-tree: out of memory for %zu points", n);
+	}
+	for (size_t k = 0; k < n; k++)
+		order[k] = (uint32_t)k;
+	const float *src[3] = {x, y, z};
+	build_node(t, src, order, scratch, 0, n);
+	for (size_t k = 0; k < n; k++) {
+		t->x[k] = x[order[k]];
+		t->y[k] = y[order[k]];
+		t->z[k] = z[order[k]];
+	}
+	t->n = n;
+	free(order);
+	free(scratch);
+	return DP_OK;
+}
+
+void dp_kdtree_free(dp_kdtree *t)
+{
+	free(t->x);
+	free(t->y);
+	free(t->z);
+	free(t->axis);
+	memset(t, 0, sizeof *t);
+}
+
+static int within(const dp_kdtree *t, const float q[3], float r2, size_t k)
+{
+	float dx = t->x[k] - q[0], dy = t->y[k] - q[1], dz = t->z[k] - q[2];
+	return dx * dx + dy * dy + dz * dz < r2;
+}
+
+/* The near side of each split is searched first (a ball that holds a point
+ * mostly holds one there); the far side is skipped when the query's squared
+ * distance to the split plane is >= r2: every point there is at least as far
+ * along the axis (float subtraction and squaring round monotonically, and so
+ * does adding the other non-negative terms), so none passes `within`. */
+static int any_in_node(const dp_kdtree *t, const float q[3], float r2, size_t lo, size_t hi)
+{
+	while (hi - lo > KDTREE_LEAF) {
+		size_t mid = lo + (hi - lo) / 2;
+		if (within(t, q, r2, mid))
+			return 1;
+		int a = t->axis[mid];
+		const float *split = a == 0 ? t->x : a == 1 ? t->y : t->z;
+		float diff = q[a] - split[mid];
+		size_t near_lo = diff < 0.0f ? lo : mid + 1, near_hi = diff < 0.0f ? mid : hi;
+		size_t far_lo = diff < 0.0f ? mid + 1 : lo, far_hi = diff < 0.0f ? hi : mid;
+		if (diff * diff < r2) {
+			if (any_in_node(t, q, r2, near_lo, near_hi))
+				return 1;
+			lo = far_lo;
+			hi = far_hi;
+		} else {
+			lo = near_lo;
+			hi = near_hi;
+		}
+	}
+	for (size_t k = lo; k < hi; k++)
+		if (within(t, q, r2, k))
+			return 1;
+	return 0;
+}
+
+int dp_kdtree_any_within(const dp_kdtree *t, float x, float y, float z, float r2)
+{
+	if (!(r2 > 0.0f))
+		return 0;
+	const float q[3] = {x, y, z};
+	return any_in_node(t, q, r2, 0, t->n);
+}
