@@ -26,7 +26,7 @@ static int by_key(const void *a, const void *b)
 static void build_node(dp_kdtree *t, const float *const src[3], uint32_t *order, keyed *scratch, size_t lo,
 		       size_t hi)
 {
-	if (hi - lo <= KDTREE_LEAF)
+	if (hi == lo)
 		return;
 	float lo_v[3], hi_v[3];
 	for (int a = 0; a < 3; a++)
@@ -37,6 +37,13 @@ static void build_node(dp_kdtree *t, const float *const src[3], uint32_t *order,
 			lo_v[a] = v < lo_v[a] ? v : lo_v[a];
 			hi_v[a] = v > hi_v[a] ? v : hi_v[a];
 		}
+	float *box = t->box + 6 * (lo + (hi - lo) / 2);
+	for (int a = 0; a < 3; a++) {
+		box[a] = lo_v[a];
+		box[3 + a] = hi_v[a];
+	}
+	if (hi - lo <= KDTREE_LEAF)
+		return;
 	int axis = 0;
 	for (int a = 1; a < 3; a++)
 		if (hi_v[a] - lo_v[a] > hi_v[axis] - lo_v[axis])
@@ -63,7 +70,8 @@ dp_status dp_kdtree_build(dp_kdtree *t, size_t n, const float *x, const float *y
 	t->y = dp_alloc_array(n, sizeof(float));
 	t->z = dp_alloc_array(n, sizeof(float));
 	t->axis = calloc(n ? n : 1, 1);
-	if (!order || !scratch || !t->x || !t->y || !t->z || !t->axis) {
+	t->box = dp_alloc_array(n, 6 * sizeof(float));
+	if (!order || !scratch || !t->x || !t->y || !t->z || !t->axis || !t->box) {
 		free(order);
 		free(scratch);
 		dp_kdtree_free(t);
@@ -90,6 +98,7 @@ void dp_kdtree_free(dp_kdtree *t)
 	free(t->y);
 	free(t->z);
 	free(t->axis);
+	free(t->box);
 	memset(t, 0, sizeof *t);
 }
 
@@ -99,35 +108,47 @@ static int within(const dp_kdtree *t, const float q[3], float r2, size_t k)
 	return dx * dx + dy * dy + dz * dz < r2;
 }
 
-/* The near side of each split is searched first (a ball that holds a point
- * mostly holds one there); the far side is skipped when the query's squared
- * distance to the split plane is >= r2: every point there is at least as far
- * along the axis (float subtraction and squaring round monotonically, and so
- * does adding the other non-negative terms), so none passes `within`. */
+/* A lower bound of the squared distance from q to the points of the node
+ * whose bounding box is `box`: along each axis |q_a - p_a| >= the gap e_a
+ * between q_a and the box, and float subtraction, squaring and adding
+ * non-negative terms round monotonically, so the bound holds for the rounded
+ * distances `within` compares too: a node with a bound >= r2 holds no point
+ * that passes. Real boxes, not the kd cells the splits bound: over a curved
+ * surface a cell reaches far into the empty space where the balls are. */
+static float box_d2(const float *box, const float q[3])
+{
+	float e[3];
+	for (int a = 0; a < 3; a++)
+		e[a] = q[a] < box[a] ? box[a] - q[a] : q[a] > box[3 + a] ? q[a] - box[3 + a] : 0.0f;
+	return e[0] * e[0] + e[1] * e[1] + e[2] * e[2];
+}
+
+/* The near side of a split is searched first: a ball that holds a point
+ * mostly holds one there. */
 static int any_in_node(const dp_kdtree *t, const float q[3], float r2, size_t lo, size_t hi)
 {
-	while (hi - lo > KDTREE_LEAF) {
+	while (hi > lo) {
 		size_t mid = lo + (hi - lo) / 2;
+		if (!(box_d2(t->box + 6 * mid, q) < r2))
+			return 0;
+		if (hi - lo <= KDTREE_LEAF) {
+			for (size_t k = lo; k < hi; k++)
+				if (within(t, q, r2, k))
+					return 1;
+			return 0;
+		}
 		if (within(t, q, r2, mid))
 			return 1;
 		int a = t->axis[mid];
 		const float *split = a == 0 ? t->x : a == 1 ? t->y : t->z;
-		float diff = q[a] - split[mid];
-		size_t near_lo = diff < 0.0f ? lo : mid + 1, near_hi = diff < 0.0f ? mid : hi;
-		size_t far_lo = diff < 0.0f ? mid + 1 : lo, far_hi = diff < 0.0f ? hi : mid;
-		if (diff * diff < r2) {
-			if (any_in_node(t, q, r2, near_lo, near_hi))
-				return 1;
-			lo = far_lo;
-			hi = far_hi;
-		} else {
-			lo = near_lo;
-			hi = near_hi;
-		}
-	}
-	for (size_t k = lo; k < hi; k++)
-		if (within(t, q, r2, k))
+		int low_is_near = q[a] < split[mid];
+		if (any_in_node(t, q, r2, low_is_near ? lo : mid + 1, low_is_near ? mid : hi))
 			return 1;
+		if (low_is_near)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
 	return 0;
 }
 
