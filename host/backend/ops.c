@@ -17,6 +17,7 @@ typedef struct op_call {
 	const float *pos[3];
 	int npos;
 	const float *reach;
+	int has_cells, cells; /* a CELLS field and its value */
 	dp_cl_arg args[OPS_MAX_ARGS];
 	size_t nargs;
 	dp_cl_grid_storage grid_values;
@@ -30,6 +31,7 @@ typedef struct op_call {
 #define OP_COUNT_REACH 1
 #define OP_COUNT_GRID DP_CL_GRID_NARGS
 #define OP_COUNT_ATTR 1
+#define OP_COUNT_CELLS 1
 #define OP_COUNT_PARAM 1
 #define OP_COUNT_OUT 1
 #define OP_ASSERT_SIZE(op, kernel, FIELDS) \
@@ -78,6 +80,10 @@ static size_t grid_points(op_call *c)
 #define OP_GATHER_GRID(type, name, width) add_grid(&c, a->name);
 #define OP_GATHER_ATTR(type, name, width) \
 	add_arg(&c, DP_CL_IN(a->name, grid_points(&c) * (width) * sizeof(type)));
+#define OP_GATHER_CELLS(type, name, width)                                      \
+	c.has_cells = 1;                                                        \
+	c.cells = a->name;                                                      \
+	add_arg(&c, DP_CL_VALUE(a->name));
 #define OP_GATHER_PARAM(type, name, width) add_arg(&c, DP_CL_VALUE(a->name));
 #define OP_GATHER_OUT(type, name, width) add_arg(&c, DP_CL_OUT(a->name, a->nq * (width) * sizeof(type)));
 
@@ -104,6 +110,12 @@ static dp_status run(dp_context *ctx, op_call *c, void (*ref)(const void *), con
 			return st;
 		ctx->pair_evaluations +=
 			dp_grid_candidates_reach(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->reach);
+	} else if (c->has_cells) {
+		if (c->cells < 1 || c->cells > c->grid->margin)
+			return dp_fail(err, DP_ERR_ARG, "%s: reach %d outside 1..the grid's margin of %d cells", c->op,
+				       c->cells, c->grid->margin);
+		ctx->pair_evaluations +=
+			dp_grid_candidates_cells(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->cells);
 	} else {
 		ctx->pair_evaluations += dp_grid_candidates(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2]);
 	}
@@ -148,6 +160,7 @@ DP_OPERATORS(OP_DEFINE_RUN)
 #define OP_EXPECT_GRID(type, name)                          \
 	memcpy(want + k, grid, sizeof grid);                \
 	k += DP_CL_GRID_NARGS;
+#define OP_EXPECT_CELLS OP_EXPECT_PARAM
 #define OP_EXPECT_PARAM(type, name) want[k++] = (dp_cl_param){#name, OP_CL_TYPE_##type, DP_CL_PARAM_VALUE};
 #define OP_EXPECT_OUT(type, name) want[k++] = (dp_cl_param){#name, OP_CL_TYPE_##type "*", DP_CL_PARAM_GLOBAL};
 

@@ -183,3 +183,19 @@ double dp_grid_candidates_reach(const dp_grid *g, size_t nq, const float *qx, co
 	}
 	return total;
 }
+
+double dp_grid_candidates_cells(const dp_grid *g, size_t nq, const float *qx, const float *qy, const float *qz,
+				int cells)
+{
+	double total = 0.0;
+	for (size_t i = 0; i < nq; i++) {
+		int cx = dp_grid_coord(g, 0, qx[i]), cy = dp_grid_coord(g, 1, qy[i]), cz = dp_grid_coord(g, 2, qz[i]);
+		for (int dz = -cells; dz <= cells; dz++)
+			for (int dy = -cells; dy <= cells; dy++) {
+				uint32_t beg, end;
+				dp_grid_row(g, cx, cy + dy, cz + dz, cells, &beg, &end);
+				total += (double)(end - beg);
+			}
+	}
+	return total;
+}

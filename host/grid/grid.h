@@ -134,4 +134,9 @@ static inline void dp_grid_row(const dp_grid *g, int cx, int cy, int cz, int rx,
 double dp_grid_candidates_reach(const dp_grid *g, size_t nq, const float *qx, const float *qy, const float *qz,
 				const float *reach);
 
+/* Pair evaluations of scans of `cells` cells on each side on every axis
+ * (0 <= cells <= margin). */
+double dp_grid_candidates_cells(const dp_grid *g, size_t nq, const float *qx, const float *qy, const float *qz,
+				int cells);
+
 #endif

@@ -16,6 +16,9 @@
  *   GRID   the grid scanned (kernels/grid.cl GRID_ARGS); before any ATTR
  *   ATTR   per-grid-point input array in the grid's sorted order
  *          (dp_grid_gather), width values per point
+ *   CELLS  an int passed by value: the query scans this many cells on each
+ *          side on every axis instead of one (GRID_PAIRS_REACH), for grids
+ *          of several cells per radius; it must lie in 1..the grid's margin
  *   PARAM  a scalar passed by value
  *   OUT    per-query output array, width values per query
  * The kernel's argument names are the field names. type is float, int or
@@ -247,6 +250,19 @@
 	F(PARAM, float, radius, 1) F(PARAM, float, r, 1) F(OUT, int32_t, best, 1)                 \
 	F(OUT, float, dist2, 1)
 
+/* ---- The peak (bench/bench_peak.c) ---------------------------------------
+ * The bare pair loop of every kernel (kernels/peak.cl), measured to give the
+ * ceiling each operator's pair rate is printed beside. Over the grid's points
+ * p scanned within `reach` cells of q_i on each axis, with d = |q_i - p| <
+ * radius (q_i itself included):
+ *   count[i] = their number,   sum[i] = Σ exp(-d²/radius²).
+ * The grid's cell times reach must cover the radius: dp_peak_grid builds such
+ * a grid, cells of radius / reach. */
+#define DP_OP_PEAK(F)                                                                            \
+	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
+	F(PARAM, float, radius, 1) F(CELLS, int, reach, 1) F(OUT, float, count, 1)                \
+	F(OUT, float, sum, 1)
+
 /* The table: OP(operator, kernel, fields). */
 #define DP_OPERATORS(OP)                                                 \
 	OP(density, wlop_density, DP_OP_DENSITY)                         \
@@ -262,7 +278,8 @@
 	OP(surface_data, surface_data, DP_OP_SURFACE_DATA)               \
 	OP(surface_neighbour, surface_neighbour, DP_OP_SURFACE_NEIGHBOUR) \
 	OP(surface_covariance, surface_covariance, DP_OP_SURFACE_COVARIANCE) \
-	OP(surface_reattach, surface_reattach, DP_OP_SURFACE_REATTACH)
+	OP(surface_reattach, surface_reattach, DP_OP_SURFACE_REATTACH)     \
+	OP(peak, peak_pairs, DP_OP_PEAK)
 
 /* dp_<op>_args: nq queries, then the row's fields (inputs const). */
 #define DP_OP_MEMBER(kind, type, name, width) DP_OP_MEMBER_##kind(type, name)
@@ -271,6 +288,7 @@
 #define DP_OP_MEMBER_REACH(type, name) const type *name;
 #define DP_OP_MEMBER_GRID(type, name) const type *name;
 #define DP_OP_MEMBER_ATTR(type, name) const type *name;
+#define DP_OP_MEMBER_CELLS(type, name) type name;
 #define DP_OP_MEMBER_PARAM(type, name) type name;
 #define DP_OP_MEMBER_OUT(type, name) type *name;
 #define DP_OP_DECLARE(op, kernel, FIELDS)                  \
@@ -288,5 +306,12 @@ DP_OPERATORS(DP_OP_DECLARE)
  * reach, which the dispatchers reject. The grid of a REACH operator is built
  * with a margin that covers the longest reach (dp_grid_build_margin). */
 float dp_skeleton_reach(size_t nq, const float *metric, float cutoff, float *reach);
+
+/* A grid for the peak over n points, for scans of `reach` cells
+ * (1..DP_GRID_MAX_MARGIN) of side radius / reach; *cells_reach is the reach in
+ * cells that covers the radius on the grid actually built (its cell may have
+ * grown past the cap on cells), the peak's `reach` on it. */
+dp_status dp_peak_grid(dp_grid *g, size_t n, const float *x, const float *y, const float *z, float radius,
+		       int reach, int *cells_reach, dp_error *err);
 
 #endif
