@@ -162,6 +162,129 @@ static void test_lanes_forced(void **state)
 		setenv("DP_CL_LANES", keep, 1);
 }
 
+/* Restores an environment variable saved by env_save. */
+typedef struct saved_env {
+	const char *name;
+	int set;
+	char value[32];
+} saved_env;
+
+static saved_env env_save(const char *name)
+{
+	saved_env e = {.name = name};
+	const char *v = getenv(name);
+	if (v) {
+		e.set = 1;
+		snprintf(e.value, sizeof e.value, "%s", v);
+	}
+	unsetenv(name);
+	return e;
+}
+
+static void env_restore(const saved_env *e)
+{
+	if (e->set)
+		setenv(e->name, e->value, 1);
+	else
+		unsetenv(e->name);
+}
+
+/* The work-group size of the embedded program's kernel `name` on cl. */
+static size_t kernel_local_size(dp_cl *cl, const char *name)
+{
+	cl_kernel k;
+	dp_error err = {0};
+	assert_int_equal(dp_cl_kernel(cl, name, &k, &err), DP_OK);
+	for (size_t i = 0; i < cl->nkernels; i++)
+		if (!strcmp(cl->kernels[i].name, name))
+			return cl->kernels[i].local;
+	fail_msg("kernel %s not in the table", name);
+	return 0;
+}
+
+/* The work-group size follows the device type, which $DP_CL_DEVICE_TYPE can
+ * force (the GPU choices then run here, on PoCL), and $DP_CL_LOCAL_SIZE
+ * overrides it; bad values are refused. */
+static void test_local_size_by_device_type(void **state)
+{
+	(void)state;
+	saved_env type_env = env_save("DP_CL_DEVICE_TYPE"), local_env = env_save("DP_CL_LOCAL_SIZE"),
+		  lanes_env = env_save("DP_CL_LANES");
+	dp_cl cl;
+	dp_error err = {0};
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_OK);
+	cl_device_type type = 0;
+	assert_int_equal(clGetDeviceInfo(cl.device, CL_DEVICE_TYPE, sizeof type, &type, NULL), CL_SUCCESS);
+	assert_int_equal(cl.local_size, (type & CL_DEVICE_TYPE_CPU) ? DP_CL_LOCAL_SIZE_CPU : DP_CL_LOCAL_SIZE_GPU);
+	dp_cl_close(&cl);
+
+	setenv("DP_CL_DEVICE_TYPE", "gpu", 1);
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_OK);
+	assert_int_equal(cl.local_size, DP_CL_LOCAL_SIZE_GPU);
+	assert_int_equal(cl.lanes, DP_CL_LANES_GPU);
+	size_t limit = 0;
+	cl_kernel k;
+	assert_int_equal(dp_cl_kernel(&cl, "wlop_density", &k, &err), DP_OK);
+	assert_int_equal(clGetKernelWorkGroupInfo(k, cl.device, CL_KERNEL_WORK_GROUP_SIZE, sizeof limit, &limit, NULL),
+			 CL_SUCCESS);
+	assert_int_equal(kernel_local_size(&cl, "wlop_density"),
+			 limit < DP_CL_LOCAL_SIZE_GPU ? limit : DP_CL_LOCAL_SIZE_GPU);
+	dp_cl_close(&cl);
+	setenv("DP_CL_DEVICE_TYPE", "cpu", 1);
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_OK);
+	assert_int_equal(cl.local_size, DP_CL_LOCAL_SIZE_CPU);
+	assert_int_equal(cl.lanes, DP_CL_LANES_CPU);
+	dp_cl_close(&cl);
+	setenv("DP_CL_DEVICE_TYPE", "tpu", 1);
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_ERR_ARG);
+	assert_non_null(strstr(err.message, "DP_CL_DEVICE_TYPE"));
+	unsetenv("DP_CL_DEVICE_TYPE");
+
+	setenv("DP_CL_LOCAL_SIZE", "32", 1);
+	assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_OK);
+	assert_int_equal(cl.local_size, 32);
+	dp_cl_close(&cl);
+	const char *bad[] = {"0", "-64", "64x", "100000"};
+	for (size_t i = 0; i < sizeof bad / sizeof bad[0]; i++) {
+		setenv("DP_CL_LOCAL_SIZE", bad[i], 1);
+		assert_int_equal(dp_cl_open(&cl, NULL, &err), DP_ERR_ARG);
+		assert_non_null(strstr(err.message, "DP_CL_LOCAL_SIZE"));
+	}
+	env_restore(&type_env);
+	env_restore(&local_env);
+	env_restore(&lanes_env);
+}
+
+/* Any size up to DP_CL_LOCAL_SIZE_MAX runs, a power of two or not, within
+ * the kernel's own limit (PoCL's, 4096, is above every size allowed, so the
+ * limit itself cannot bind here). */
+static void test_odd_local_size_runs(void **state)
+{
+	(void)state;
+	saved_env local_env = env_save("DP_CL_LOCAL_SIZE");
+	const char *src = "__kernel void twice(const uint n, __global const float *x, __global float *out)\n"
+			  "{ uint i = get_global_id(0); if (i < n) out[i] = 2.0f * x[i]; }\n";
+	dp_cl cl;
+	dp_error err = {0};
+	setenv("DP_CL_LOCAL_SIZE", "96", 1);
+	assert_int_equal(dp_cl_open_source(&cl, NULL, src, DP_CL_BUILD_OPTIONS, &err), DP_OK);
+	enum { N = 1000 };
+	static float x[N], out[N];
+	for (int i = 0; i < N; i++)
+		x[i] = (float)i;
+	dp_cl_arg args[] = {DP_CL_IN(x, sizeof x), DP_CL_OUT(out, sizeof out)};
+	if (dp_cl_launch(&cl, "twice", N, args, 2, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	size_t limit = 0;
+	assert_int_equal(clGetKernelWorkGroupInfo(cl.kernels[0].kernel, cl.device, CL_KERNEL_WORK_GROUP_SIZE,
+						  sizeof limit, &limit, NULL),
+			 CL_SUCCESS);
+	assert_int_equal(cl.kernels[0].local, limit < 96 ? limit : 96);
+	assert_true(out[999] == 1998.0f && out[0] == 0.0f);
+	dp_cl_close(&cl);
+	env_restore(&local_env);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -171,6 +294,8 @@ int main(void)
 		cmocka_unit_test(test_embedded_program_builds_and_errors_are_named),
 		cmocka_unit_test(test_buffers_stay_on_the_device),
 		cmocka_unit_test(test_lanes_forced),
+		cmocka_unit_test(test_local_size_by_device_type),
+		cmocka_unit_test(test_odd_local_size_runs),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);
 	tk_teardown_contexts(NULL);

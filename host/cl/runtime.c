@@ -36,6 +36,41 @@ static dp_status build_failure(dp_cl *cl, cl_int rc, dp_error *err)
 	return st;
 }
 
+/* The device's type, or the one $DP_CL_DEVICE_TYPE names. */
+static dp_status device_type(cl_device_id device, cl_device_type *type, dp_error *err)
+{
+	const char *env = getenv("DP_CL_DEVICE_TYPE");
+	if (env && *env) {
+		if (strcmp(env, "cpu") && strcmp(env, "gpu"))
+			return dp_fail(err, DP_ERR_ARG, "DP_CL_DEVICE_TYPE must be cpu or gpu, not '%s'", env);
+		*type = strcmp(env, "cpu") ? CL_DEVICE_TYPE_GPU : CL_DEVICE_TYPE_CPU;
+		return DP_OK;
+	}
+	if (clGetDeviceInfo(device, CL_DEVICE_TYPE, sizeof *type, type, NULL) != CL_SUCCESS)
+		*type = CL_DEVICE_TYPE_GPU;
+	return DP_OK;
+}
+
+/* DP_CL_LOCAL_SIZE_* by device type, or $DP_CL_LOCAL_SIZE. */
+static dp_status choose_local_size(cl_device_id device, size_t *local, dp_error *err)
+{
+	const char *env = getenv("DP_CL_LOCAL_SIZE");
+	if (env && *env) {
+		char *end;
+		unsigned long v = strtoul(env, &end, 10);
+		if (*end || *env == '-' || v < 1 || v > DP_CL_LOCAL_SIZE_MAX)
+			return dp_fail(err, DP_ERR_ARG, "DP_CL_LOCAL_SIZE must be 1 to %d, not '%s'",
+				       DP_CL_LOCAL_SIZE_MAX, env);
+		*local = v;
+		return DP_OK;
+	}
+	cl_device_type type = 0;
+	dp_status st = device_type(device, &type, err);
+	if (st == DP_OK)
+		*local = (type & CL_DEVICE_TYPE_CPU) ? DP_CL_LOCAL_SIZE_CPU : DP_CL_LOCAL_SIZE_GPU;
+	return st;
+}
+
 dp_status dp_cl_open_source(dp_cl *cl, const char *spec, const char *source, const char *options,
 			    dp_error *err)
 {
@@ -51,6 +86,8 @@ dp_status dp_cl_open_source(dp_cl *cl, const char *spec, const char *source, con
 	snprintf(cl->name, sizeof cl->name, "%s", dev.name);
 
 	cl_context_properties props[] = {CL_CONTEXT_PLATFORM, (cl_context_properties)cl->platform, 0};
+	if ((st = choose_local_size(cl->device, &cl->local_size, err)) != DP_OK)
+		goto cleanup;
 	cl->context = clCreateContext(props, 1, &cl->device, NULL, NULL, &rc);
 	CHECK(rc, "clCreateContext");
 	cl->queue = clCreateCommandQueue(cl->context, cl->device, 0, &rc);
@@ -83,8 +120,8 @@ static dp_status choose_lanes(const char *spec, int *lanes, dp_error *err)
 	if (st != DP_OK)
 		return st;
 	cl_device_type type = 0;
-	if (clGetDeviceInfo(dev.device, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
-		type = CL_DEVICE_TYPE_GPU;
+	if ((st = device_type(dev.device, &type, err)) != DP_OK)
+		return st;
 	*lanes = (type & CL_DEVICE_TYPE_CPU) ? DP_CL_LANES_CPU : DP_CL_LANES_GPU;
 	return DP_OK;
 }
@@ -148,7 +185,15 @@ dp_status dp_cl_kernel(dp_cl *cl, const char *name, cl_kernel *kernel, dp_error 
 	cl_kernel k = clCreateKernel(cl->program, name, &rc);
 	if (rc != CL_SUCCESS)
 		return dp_fail(err, DP_ERR_CL, "OpenCL: clCreateKernel(%s) failed: %s", name, dp_cl_error_name(rc));
+	size_t limit = 0;
+	rc = clGetKernelWorkGroupInfo(k, cl->device, CL_KERNEL_WORK_GROUP_SIZE, sizeof limit, &limit, NULL);
+	if (rc != CL_SUCCESS) {
+		clReleaseKernel(k);
+		return dp_fail(err, DP_ERR_CL, "OpenCL: clGetKernelWorkGroupInfo(%s) failed: %s", name,
+			       dp_cl_error_name(rc));
+	}
 	snprintf(cl->kernels[cl->nkernels].name, sizeof cl->kernels[0].name, "%s", name);
+	cl->kernels[cl->nkernels].local = limit && limit < cl->local_size ? limit : cl->local_size;
 	cl->kernels[cl->nkernels++].kernel = k;
 	*kernel = k;
 	return DP_OK;
@@ -164,6 +209,14 @@ static dp_cl_kernel_stats *kernel_stats(dp_cl *cl, const char *name)
 		if (strcmp(cl->kernels[i].name, name) == 0)
 			return &cl->kernels[i].stats;
 	return NULL;
+}
+
+static size_t kernel_local(const dp_cl *cl, const char *name)
+{
+	for (size_t i = 0; i < cl->nkernels; i++)
+		if (strcmp(cl->kernels[i].name, name) == 0)
+			return cl->kernels[i].local;
+	return cl->local_size;
 }
 
 /* The cached buffer of (host, bytes), created (evicting the least recently
@@ -277,7 +330,7 @@ dp_status dp_cl_launch(dp_cl *cl, const char *name, size_t n, const dp_cl_arg *a
 		}
 		CHECK(clSetKernelArg(kernel, (cl_uint)(a + 1), sizeof(cl_mem), &slots[a]->mem), "clSetKernelArg");
 	}
-	size_t local = DP_CL_LOCAL_SIZE;
+	size_t local = kernel_local(cl, name);
 	size_t global = (n + local - 1) / local * local;
 	CHECK(clEnqueueNDRangeKernel(cl->queue, kernel, 1, NULL, &global, &local, 0, NULL, NULL),
 	      "clEnqueueNDRangeKernel");

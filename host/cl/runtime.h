@@ -9,9 +9,17 @@
 
 #include <CL/cl.h>
 
-/* Fixed work-group size; the global size is padded up to a multiple of it and
- * every kernel takes the real item count as its first argument (DESIGN §3). */
-#define DP_CL_LOCAL_SIZE 64
+/* Work-group size by device type; the global size is padded up to a multiple
+ * of it and every kernel takes the real item count as its first argument
+ * (DESIGN §3). A CPU runs a work-group as one loop (64 measured best on PoCL);
+ * a GPU wants several warps per group to hide memory latency, 64-256 being the
+ * usual best, and no more than the kernel allows (CL_KERNEL_WORK_GROUP_SIZE).
+ * $DP_CL_LOCAL_SIZE overrides the choice; $DP_CL_DEVICE_TYPE (cpu or gpu)
+ * makes every choice by device type (lanes too) as for that type, so that the
+ * GPU choices run on PoCL in the tests. */
+#define DP_CL_LOCAL_SIZE_CPU 64
+#define DP_CL_LOCAL_SIZE_GPU 128
+#define DP_CL_LOCAL_SIZE_MAX 1024
 /* Options every program is built with: PoCL vectorises exp() across
  * work-items only with unsafe math, and -cl-fast-relaxed-math would also
  * assume no NaN/Inf (DESIGN §3); -cl-kernel-arg-info keeps the argument names
@@ -58,10 +66,12 @@ typedef struct dp_cl {
 	cl_program program;
 	char name[512];
 	int lanes;                /* DP_LANES the program was built with */
+	size_t local_size;        /* work-group size asked for, before each kernel's limit */
 	size_t nkernels;
 	struct {
 		char name[64];
 		cl_kernel kernel;
+		size_t local; /* local_size within CL_KERNEL_WORK_GROUP_SIZE */
 		dp_cl_kernel_stats stats;
 	} kernels[DP_CL_MAX_KERNELS];
 	dp_cl_cached cache[DP_CL_CACHE_SLOTS];
@@ -111,8 +121,8 @@ typedef struct dp_cl_arg {
 #define DP_CL_OUT(p, nbytes) ((dp_cl_arg){DP_CL_ARG_OUT, (p), (nbytes)})
 #define DP_CL_VALUE(v) ((dp_cl_arg){DP_CL_ARG_VALUE, &(v), sizeof(v)})
 
-/* Runs kernel `name` over n work-items (global size padded to
- * DP_CL_LOCAL_SIZE). Argument 0 is the cl_uint n; args follow from 1. Output
+/* Runs kernel `name` over n work-items (global size padded to a multiple of
+ * the kernel's work-group size). Argument 0 is the cl_uint n; args follow from 1. Output
  * buffers are read back before returning. n == 0 does nothing. Every array
  * argument lives in a device buffer cached by (pointer, bytes): an input is
  * uploaded only when it differs from what that buffer holds, and an output read
