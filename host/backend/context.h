@@ -9,6 +9,7 @@ struct dp_context {
 	dp_backend_kind kind;
 	dp_cl cl;              /* opened only for DP_BACKEND_CL */
 	double pair_evaluations; /* neighbour pairs visited by operators, for reports */
+	struct dp_neighbour_counts *neighbours; /* benchmarks: true neighbours counted when set */
 	dp_progress_fn progress;
 	void *progress_user;
 	double started;          /* dp_seconds() at creation, for progress reports */

@@ -1,4 +1,5 @@
 #include "backend/ops.h"
+#include "backend/neighbours.h"
 
 #include "core/common.h"
 
@@ -18,6 +19,8 @@ typedef struct op_call {
 	int npos;
 	const float *reach;
 	int has_cells, cells; /* a CELLS field and its value */
+	float radius;
+	const float *metric;
 	dp_cl_arg args[OPS_MAX_ARGS];
 	size_t nargs;
 	dp_cl_grid_storage grid_values;
@@ -32,11 +35,28 @@ typedef struct op_call {
 #define OP_COUNT_GRID DP_CL_GRID_NARGS
 #define OP_COUNT_ATTR 1
 #define OP_COUNT_CELLS 1
+#define OP_COUNT_RADIUS 1
+#define OP_COUNT_METRIC 1
 #define OP_COUNT_PARAM 1
 #define OP_COUNT_OUT 1
 #define OP_ASSERT_SIZE(op, kernel, FIELDS) \
 	_Static_assert(1 FIELDS(OP_COUNT) <= OPS_MAX_ARGS + 1, #op ": more kernel arguments than OPS_MAX_ARGS");
 DP_OPERATORS(OP_ASSERT_SIZE)
+
+/* Each row has one RADIUS (the true-neighbour counts need it). */
+#define OP_RADII(kind, type, name, width) +OP_RADII_##kind
+#define OP_RADII_POS 0
+#define OP_RADII_QUERY 0
+#define OP_RADII_REACH 0
+#define OP_RADII_GRID 0
+#define OP_RADII_ATTR 0
+#define OP_RADII_CELLS 0
+#define OP_RADII_RADIUS 1
+#define OP_RADII_METRIC 0
+#define OP_RADII_PARAM 0
+#define OP_RADII_OUT 0
+#define OP_ASSERT_RADIUS(op, kernel, FIELDS) _Static_assert(0 FIELDS(OP_RADII) == 1, #op ": not one RADIUS");
+DP_OPERATORS(OP_ASSERT_RADIUS)
 
 static void add_arg(op_call *c, dp_cl_arg arg)
 {
@@ -85,6 +105,12 @@ static size_t grid_points(op_call *c)
 	c.cells = a->name;                                                      \
 	add_arg(&c, DP_CL_VALUE(a->name));
 #define OP_GATHER_PARAM(type, name, width) add_arg(&c, DP_CL_VALUE(a->name));
+#define OP_GATHER_RADIUS(type, name, width)                                     \
+	c.radius = a->name;                                                     \
+	add_arg(&c, DP_CL_VALUE(a->name));
+#define OP_GATHER_METRIC(type, name, width)                                     \
+	c.metric = a->name;                                                     \
+	add_arg(&c, DP_CL_IN(a->name, a->nq * (width) * sizeof(type)));
 #define OP_GATHER_OUT(type, name, width) add_arg(&c, DP_CL_OUT(a->name, a->nq * (width) * sizeof(type)));
 
 /* Every query's reach must lie within the grid's margin (operators.h). */
@@ -101,9 +127,9 @@ static dp_status check_reach(const op_call *c, dp_error *err)
 
 static dp_status run(dp_context *ctx, op_call *c, void (*ref)(const void *), const void *a, dp_error *err)
 {
-	if (c->npos != 3 || !c->grid || c->attr_before_grid)
-		return dp_fail(err, DP_ERR_INTERNAL, "%s: its row needs 3 POS fields and a grid before any ATTR",
-			       c->op);
+	if (c->npos != 3 || !c->grid || c->attr_before_grid || (c->metric && !c->reach))
+		return dp_fail(err, DP_ERR_INTERNAL,
+			       "%s: its row needs 3 POS fields, a grid before any ATTR and a REACH with its METRIC", c->op);
 	if (c->reach) {
 		dp_status st = check_reach(c, err);
 		if (st != DP_OK)
@@ -119,6 +145,11 @@ static dp_status run(dp_context *ctx, op_call *c, void (*ref)(const void *), con
 	} else {
 		ctx->pair_evaluations += dp_grid_candidates(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2]);
 	}
+	if (c->metric)
+		dp_count_neighbours_metric(ctx, c->kernel, c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->metric,
+					   c->reach, c->radius);
+	else
+		dp_count_neighbours(ctx, c->kernel, c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->radius);
 	if (ctx->kind == DP_BACKEND_REF) {
 		ref(a);
 		return DP_OK;
@@ -161,6 +192,8 @@ DP_OPERATORS(OP_DEFINE_RUN)
 	memcpy(want + k, grid, sizeof grid);                \
 	k += DP_CL_GRID_NARGS;
 #define OP_EXPECT_CELLS OP_EXPECT_PARAM
+#define OP_EXPECT_RADIUS OP_EXPECT_PARAM
+#define OP_EXPECT_METRIC OP_EXPECT_IN
 #define OP_EXPECT_PARAM(type, name) want[k++] = (dp_cl_param){#name, OP_CL_TYPE_##type, DP_CL_PARAM_VALUE};
 #define OP_EXPECT_OUT(type, name) want[k++] = (dp_cl_param){#name, OP_CL_TYPE_##type "*", DP_CL_PARAM_GLOBAL};
 

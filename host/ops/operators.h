@@ -20,6 +20,10 @@
  *          side on every axis instead of one (GRID_PAIRS_REACH), for grids
  *          of several cells per radius; it must lie in 1..the grid's margin
  *   PARAM  a scalar passed by value
+ *   RADIUS a PARAM that bounds the sum: its pairs are those with d < radius
+ *          or, in a row with a METRIC, u = |M_i (q_i - x)| <= radius; one per
+ *          row (the benchmarks' true-neighbour counts, backend/neighbours.h)
+ *   METRIC per-query 3x3 metric rows M_i (a QUERY of width 9)
  *   OUT    per-query output array, width values per query
  * The kernel's argument names are the field names. type is float, int or
  * int32_t (one token: the kernel's type name is derived from it).
@@ -42,7 +46,7 @@
  * skipped pairs are the query itself (and its exact duplicates). */
 #define DP_OP_DENSITY(F)                                                                         \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
-	F(PARAM, float, h, 1) F(PARAM, float, theta_k, 1) F(PARAM, float, min_d2, 1)              \
+	F(RADIUS, float, h, 1) F(PARAM, float, theta_k, 1) F(PARAM, float, min_d2, 1)              \
 	F(PARAM, int, sqrt_density, 1) F(OUT, float, out, 1)
 
 /* The data term at each query x_i (a sample), over the grid's points c_j (the
@@ -56,7 +60,7 @@
  * everywhere and the stage passes min_d2 = 0 for it. */
 #define DP_OP_ATTRACTION(F)                                                                      \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
-	F(ATTR, float, inv_v, 1) F(PARAM, float, h, 1) F(PARAM, float, theta_k, 1)                \
+	F(ATTR, float, inv_v, 1) F(RADIUS, float, h, 1) F(PARAM, float, theta_k, 1)                \
 	F(PARAM, float, min_d2, 1) F(PARAM, int, gaussian, 1) F(OUT, float, out_x, 1)             \
 	F(OUT, float, out_y, 1) F(OUT, float, out_z, 1) F(OUT, float, out_w, 1)
 
@@ -67,7 +71,7 @@
  * d² < min_d2 are skipped: the query itself, and 1/d is infinite there. */
 #define DP_OP_REPULSION(F)                                                                       \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
-	F(ATTR, float, w, 1) F(PARAM, float, h, 1) F(PARAM, float, theta_k, 1)                    \
+	F(ATTR, float, w, 1) F(RADIUS, float, h, 1) F(PARAM, float, theta_k, 1)                    \
 	F(PARAM, float, min_d2, 1) F(OUT, float, out_x, 1) F(OUT, float, out_y, 1)                \
 	F(OUT, float, out_z, 1) F(OUT, float, out_w, 1)
 
@@ -94,7 +98,7 @@
 	F(QUERY, float, py, 1) F(QUERY, float, pz, 1) F(QUERY, float, qnx, 1)                     \
 	F(QUERY, float, qny, 1) F(QUERY, float, qnz, 1) F(GRID, dp_grid, inner, 1)                \
 	F(ATTR, float, sx, 1) F(ATTR, float, sy, 1) F(ATTR, float, sz, 1) F(ATTR, float, nx, 1)   \
-	F(ATTR, float, ny, 1) F(ATTR, float, nz, 1) F(PARAM, float, radius, 1)                    \
+	F(ATTR, float, ny, 1) F(ATTR, float, nz, 1) F(RADIUS, float, radius, 1)                   \
 	F(PARAM, float, far_d2, 1) F(OUT, float, min_dot, 1)
 
 /* The adaptive step: the grid holds the surface points p_i' and `move` the
@@ -104,7 +108,7 @@
  *             itself included), or 0 when that set is empty. */
 #define DP_OP_SINK_STEP(F)                                                                        \
 	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1)                            \
-	F(GRID, dp_grid, surface, 1) F(ATTR, float, move, 1) F(PARAM, float, radius, 1)           \
+	F(GRID, dp_grid, surface, 1) F(ATTR, float, move, 1) F(RADIUS, float, radius, 1)          \
 	F(OUT, float, mean, 1)
 
 /* Cross-bilateral smoothing sums (Eq. 3). The grid holds the surface points
@@ -122,7 +126,7 @@
 	F(QUERY, float, qny, 1) F(QUERY, float, qnz, 1) F(QUERY, float, qx, 1)                    \
 	F(QUERY, float, qy, 1) F(QUERY, float, qz, 1) F(GRID, dp_grid, surface, 1)                \
 	F(ATTR, float, nx, 1) F(ATTR, float, ny, 1) F(ATTR, float, nz, 1) F(ATTR, float, ix, 1)   \
-	F(ATTR, float, iy, 1) F(ATTR, float, iz, 1) F(PARAM, float, radius, 1)                    \
+	F(ATTR, float, iy, 1) F(ATTR, float, iz, 1) F(RADIUS, float, radius, 1)                   \
 	F(PARAM, float, inv_r2, 1) F(PARAM, float, phi_scale, 1) F(OUT, float, out_x, 1)          \
 	F(OUT, float, out_y, 1) F(OUT, float, out_z, 1) F(OUT, float, out_w, 1)
 
@@ -139,7 +143,7 @@
  * cell must be >= radius. */
 #define DP_OP_SKELETON_COV(F)                                                                    \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
-	F(PARAM, float, radius, 1) F(OUT, float, count, 1) F(OUT, float, cov, 6)
+	F(RADIUS, float, radius, 1) F(OUT, float, count, 1) F(OUT, float, cov, 6)
 
 /* Semi-axis lengths (dimensionless, in units of r), gn the normals of the
  * grid's points:
@@ -149,7 +153,7 @@
 #define DP_OP_SKELETON_SEMIAXES(F)                                                               \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
 	F(ATTR, float, gnx, 1) F(ATTR, float, gny, 1) F(ATTR, float, gnz, 1)                      \
-	F(QUERY, float, frames, 9) F(PARAM, float, radius, 1) F(PARAM, float, eps, 1)             \
+	F(QUERY, float, frames, 9) F(RADIUS, float, radius, 1) F(PARAM, float, eps, 1)             \
 	F(OUT, float, semi, 3)
 
 /* The ellipsoid distance in units of r is u = |A_i^T (q_i - x)| with metric
@@ -164,16 +168,16 @@
  * median[3*i + c] = Σ α_k h_k / Σ α_k, α_k = ϑ(q_i, h_k) / |q_i - h_k|;
  * q_i itself when no anchor is within reach (the point stays put). */
 #define DP_OP_SKELETON_MEDIAN(F)                                                                  \
-	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(QUERY, float, metric, 9) \
-	F(REACH, float, reach, 3) F(GRID, dp_grid, data, 1) F(PARAM, float, cutoff, 1)            \
+	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(METRIC, float, metric, 9) \
+	F(REACH, float, reach, 3) F(GRID, dp_grid, data, 1) F(RADIUS, float, cutoff, 1)           \
 	F(PARAM, float, min_d2, 1) F(OUT, float, median, 3)
 
 /* Anisotropic repulsion over the inner points Q (before projection):
  * repulse[3*i + c] = Σ β (q_i - q') / Σ β, β = ϑ(q_i, q') / u(q_i, q')⁵;
  * zero when no inner point is within reach. */
 #define DP_OP_SKELETON_REPULSE(F)                                                                 \
-	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(QUERY, float, metric, 9) \
-	F(REACH, float, reach, 3) F(GRID, dp_grid, data, 1) F(PARAM, float, cutoff, 1)            \
+	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(METRIC, float, metric, 9) \
+	F(REACH, float, reach, 3) F(GRID, dp_grid, data, 1) F(RADIUS, float, cutoff, 1)           \
 	F(PARAM, float, min_d2, 1) F(OUT, float, repulse, 3)
 
 /* ---- Surface consolidation (DESIGN 4.3) -----------------------------------
@@ -194,7 +198,7 @@
 #define DP_OP_SURFACE_DATA(F)                                                                     \
 	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1) F(QUERY, float, sx, 1)     \
 	F(QUERY, float, sy, 1) F(QUERY, float, sz, 1) F(QUERY, float, depth, 1)                   \
-	F(GRID, dp_grid, input, 1) F(PARAM, float, radius, 1) F(PARAM, float, r, 1)               \
+	F(GRID, dp_grid, input, 1) F(RADIUS, float, radius, 1) F(PARAM, float, r, 1)               \
 	F(PARAM, float, min_d2, 1) F(OUT, float, eta, 1) F(OUT, float, sum_alpha, 1)              \
 	F(OUT, float, ox, 1) F(OUT, float, oy, 1) F(OUT, float, oz, 1)
 
@@ -217,7 +221,7 @@
 	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1) F(QUERY, float, nx, 1)     \
 	F(QUERY, float, ny, 1) F(QUERY, float, nz, 1) F(QUERY, float, len, 1)                     \
 	F(GRID, dp_grid, surface, 1) F(ATTR, float, glen, 1) F(ATTR, float, gnx, 1)               \
-	F(ATTR, float, gny, 1) F(ATTR, float, gnz, 1) F(PARAM, float, radius, 1)                  \
+	F(ATTR, float, gny, 1) F(ATTR, float, gnz, 1) F(RADIUS, float, radius, 1)                 \
 	F(PARAM, float, r, 1) F(PARAM, float, min_d2, 1) F(PARAM, float, tfloor, 1)               \
 	F(PARAM, float, side_cos, 1) F(OUT, float, L, 1) F(OUT, float, var, 1)                    \
 	F(OUT, float, rx, 1) F(OUT, float, ry, 1) F(OUT, float, rz, 1) F(OUT, float, nn, 1)       \
@@ -233,7 +237,7 @@
 	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1) F(QUERY, float, nx, 1)     \
 	F(QUERY, float, ny, 1) F(QUERY, float, nz, 1) F(GRID, dp_grid, surface, 1)                \
 	F(ATTR, float, gnx, 1) F(ATTR, float, gny, 1) F(ATTR, float, gnz, 1)                      \
-	F(PARAM, float, radius, 1) F(PARAM, float, r, 1) F(PARAM, float, side_cos, 1)             \
+	F(RADIUS, float, radius, 1) F(PARAM, float, r, 1) F(PARAM, float, side_cos, 1)             \
 	F(OUT, float, cov, 6)
 
 /* Re-attachment of inner ends. For each query i (inner end q_i, surface point
@@ -247,7 +251,7 @@
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(QUERY, float, px, 1)     \
 	F(QUERY, float, py, 1) F(QUERY, float, pz, 1) F(QUERY, float, nx, 1)                      \
 	F(QUERY, float, ny, 1) F(QUERY, float, nz, 1) F(GRID, dp_grid, skeleton, 1)               \
-	F(PARAM, float, radius, 1) F(PARAM, float, r, 1) F(OUT, int32_t, best, 1)                 \
+	F(RADIUS, float, radius, 1) F(PARAM, float, r, 1) F(OUT, int32_t, best, 1)                 \
 	F(OUT, float, dist2, 1)
 
 /* ---- The peak (bench/bench_peak.c) ---------------------------------------
@@ -260,7 +264,7 @@
  * a grid, cells of radius / reach. */
 #define DP_OP_PEAK(F)                                                                            \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(GRID, dp_grid, data, 1) \
-	F(PARAM, float, radius, 1) F(CELLS, int, reach, 1) F(OUT, float, count, 1)                \
+	F(RADIUS, float, radius, 1) F(CELLS, int, reach, 1) F(OUT, float, count, 1)                \
 	F(OUT, float, sum, 1)
 
 /* The table: OP(operator, kernel, fields). */
@@ -290,6 +294,8 @@
 #define DP_OP_MEMBER_ATTR(type, name) const type *name;
 #define DP_OP_MEMBER_CELLS(type, name) type name;
 #define DP_OP_MEMBER_PARAM(type, name) type name;
+#define DP_OP_MEMBER_RADIUS(type, name) type name;
+#define DP_OP_MEMBER_METRIC(type, name) const type *name;
 #define DP_OP_MEMBER_OUT(type, name) type *name;
 #define DP_OP_DECLARE(op, kernel, FIELDS)                  \
 	typedef struct dp_##op##_args {                    \
