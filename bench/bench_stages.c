@@ -6,8 +6,15 @@
  * scan of the paper's Fig. 12 (bottom) when the shared data folder has it.
  *
  *   bench_stages [--sizes C:S[:shape],...|none] [--stages wlop,normals,sink,skeleton,surface,total]
- *                [--ref-max N] [--ref-uncapped] [--quick] [--no-statue] [--no-warm-up]
- *                [--device D] [--data DIR]
+ *                [--ref-max N] [--ref-uncapped] [--quick] [--table1] [--no-statue] [--no-warm-up]
+ *                [--no-neighbours] [--no-peak] [--device D] [--data DIR]
+ *
+ * --table1 runs every row of the paper's Table 1 (22K -> 2K up to 484K ->
+ * 47K): the two scans the shared data folder holds (the statue, Fig. 12 B,
+ * and the loops, Fig. 10 T), the other rows as scans of built-in shapes;
+ * every line of a row carries the paper's time (T_w on WLOP's, T_d on the
+ * deep stages' and T_w + T_d on the total). A data row whose file is absent
+ * is skipped with a message and a "skipped" line.
  *
  * Every stage's reference run starts from the OpenCL run's input of that stage
  * (WLOP from C; sinking from the OpenCL WLOP samples with their normals; the
@@ -29,9 +36,26 @@
  * device buffer already held them, and each is followed by one
  * {"what":"operator"} line per kernel the stage launched: launches, seconds,
  * candidate pairs and their rate, bytes each way.
+ *
+ * True neighbours: every operator's pairs within its radius (the skeleton's
+ * weighted sums: inside its ellipsoid) are counted on the host before each
+ * launch (backend/neighbours.h), and stage and operator lines give them and
+ * their rate beside the candidates': a finer grid lowers the candidates and
+ * their rate for the same work, the neighbours stay. The count's own time is
+ * taken out of the stage's "seconds" ("neighbour_count_seconds" says how much)
+ * and never enters an operator's, which dp_cl_launch measures;
+ * --no-neighbours turns it off. After each OpenCL operator line the peak
+ * kernel (kernels/peak.cl, bench_peak) runs on that operator's point counts
+ * and mean radius, over the stage's clouds of those sizes, on a grid of cells
+ * as large as the radius as the operators scan: "peak_pair_evals_per_s" and
+ * "peak_neighbour_pairs_per_s" are the ceiling, "of_peak_neighbour" the
+ * operator's share of it (--no-peak skips it).
  */
+#include "peak_timing.h"
+
 #include "dpoints_tools.h"
 #include "backend/context.h"
+#include "backend/neighbours.h"
 #include "core/common.h"
 #include "knn/knn.h"
 
@@ -52,9 +76,13 @@
  * minutes), and the largest inputs are where the two differ most. On a fast
  * device, --ref-max keeps the reference to the small inputs. */
 #define DEFAULT_REF_MAX 0
-#define STATUE_FILE "paper/statue-fig12b-raw.xyz"
-#define STATUE_NAME "statue-fig12b"
-#define STATUE_SAMPLES 7252
+/* --table1: the rows no scan in the shared data folder covers, as scans of
+ * built-in shapes (tubes, sheets and thin legs, loops), up to the largest,
+ * the knot of the issue's timings. */
+#define TABLE1_SIZES                                                                                  \
+	"84772:2143:chair,58710:6870:torus,22148:5234:knot,78630:6727:chair,24292:13812:torus,"       \
+	"40509:40509:chair,67131:67131:knot,175312:19721:torus,300283:57791:chair,292910:32142:rods," \
+	"483583:47083:knot"
 #define MAX_SIZES 16
 /* Scanner: a ring of views around the vertical axis, as in the paper's real
  * scans, so the underside is missed (missing data for sinking and surface
@@ -76,6 +104,18 @@
 #define WARM_UP_SIZE 3000
 #define WARM_UP_SAMPLES 500
 #define WARM_UP_SHAPE "knot"
+
+/* The real scans of Table 1 rows in the shared data folder; the statue runs
+ * by default, all with --table1. */
+typedef struct data_input {
+	const char *file, *name;
+	size_t samples;
+} data_input;
+
+static const data_input data_inputs[] = {
+	{"paper/statue-fig12b-raw.xyz", "statue-fig12b", 7252},
+	{"paper/loops-fig10t-raw.ply", "loops-fig10t", 3996},
+};
 
 typedef enum stage_id { ST_WLOP, ST_NORMALS, ST_SINK, ST_SKELETON, ST_SURFACE, ST_COUNT } stage_id;
 static const char *stage_names[ST_COUNT] = {"wlop", "normals", "sink", "skeleton", "surface"};
@@ -112,7 +152,9 @@ typedef struct options {
 	size_t ref_max; /* 0 = no limit */
 	int ref_uncapped;
 	int statue;
+	int table1;
 	int warm_up;
+	int neighbours, peak;
 	const char *device;
 	const char *data;
 } options;
@@ -177,6 +219,8 @@ static int parse_options(int argc, char **argv, options *o)
 	o->ref_max = DEFAULT_REF_MAX;
 	o->statue = 1;
 	o->warm_up = 1;
+	o->neighbours = 1;
+	o->peak = 1;
 	o->data = getenv("DP_DATA_DIR") ? getenv("DP_DATA_DIR") : "../shared/data";
 	parse_sizes(DEFAULT_SIZES, o);
 	parse_stages("wlop,normals,sink,skeleton,surface,total", o);
@@ -189,6 +233,19 @@ static int parse_options(int argc, char **argv, options *o)
 		}
 		if (!strcmp(arg, "--no-statue")) {
 			o->statue = 0;
+			continue;
+		}
+		if (!strcmp(arg, "--table1")) {
+			parse_sizes(TABLE1_SIZES, o);
+			o->table1 = 1;
+			continue;
+		}
+		if (!strcmp(arg, "--no-neighbours")) {
+			o->neighbours = 0;
+			continue;
+		}
+		if (!strcmp(arg, "--no-peak")) {
+			o->peak = 0;
 			continue;
 		}
 		if (!strcmp(arg, "--ref-uncapped")) {
@@ -304,6 +361,8 @@ typedef struct run_result {
 	size_t settled_front, settled_slow, unsettled;
 	int moved; /* the byte counts below are set (OpenCL runs) */
 	double h2d, d2h, h2d_skipped;
+	int counted; /* the neighbour fields below are set */
+	double neighbours, count_seconds;
 } run_result;
 
 /* The OpenCL context's transfer and per-kernel counters at one moment. */
@@ -364,13 +423,102 @@ static void print_run(const input_case *in, const char *stage, dp_context *ctx, 
 		       "\"h2d_skipped_bytes\":%.0f",
 		       r->h2d, r->d2h, r->h2d / it, r->d2h / it, r->h2d_skipped);
 	}
+	if (r->counted)
+		printf(",\"neighbour_pairs\":%.6g,\"neighbour_pairs_per_s\":%.4g,\"neighbour_count_seconds\":%.4f",
+		       r->neighbours, r->seconds > 0 ? r->neighbours / r->seconds : 0.0, r->count_seconds);
 	printf(",\"loadavg_1m\":%.2f", load[0]);
 }
 
-/* One line per kernel launched between the two counters. */
-static void print_operators(const input_case *in, const char *stage, const cl_counters *before,
-			    const cl_counters *after)
+/* What the peak runs on beside a stage's operators: the OpenCL context and
+ * the stage's clouds (output first, then inputs, then C); `data_of` names,
+ * for the operators whose grid is not over the first cloud of its size, the
+ * cloud it is over. */
+typedef struct peak_setting {
+	dp_context *ctx;
+	const dp_cloud *clouds[4];
+	int nclouds;
+	const dp_cloud *skeleton_anchors, *surface_skeleton;
+	int run;
+} peak_setting;
+
+/* The first n points of the first cloud with n or more (sinking's operators
+ * query the points not yet settled, a subset). */
+static int cloud_of_size(const peak_setting *pk, size_t n, const dp_cloud *prefer, dp_cloud *view)
 {
+	const dp_cloud *c = prefer && prefer->n >= n ? prefer : NULL;
+	for (int i = 0; i < pk->nclouds && !c; i++)
+		if (pk->clouds[i]->n == n)
+			c = pk->clouds[i];
+	for (int i = 0; i < pk->nclouds && !c; i++)
+		if (pk->clouds[i]->n >= n)
+			c = pk->clouds[i];
+	if (!c || n == 0)
+		return 0;
+	*view = *c;
+	view->n = n;
+	return 1;
+}
+
+/* The operator's true neighbours between two counts; its last launch's
+ * sizes and its mean radius over those launches. */
+static dp_neighbour_op neighbour_diff(const dp_neighbour_counts *before, const dp_neighbour_counts *after,
+				      const char *name)
+{
+	dp_neighbour_op d = {0};
+	for (size_t i = 0; i < after->nops; i++)
+		if (!strcmp(after->ops[i].name, name))
+			d = after->ops[i];
+	for (size_t i = 0; i < before->nops; i++)
+		if (!strcmp(before->ops[i].name, name)) {
+			d.launches -= before->ops[i].launches;
+			d.pairs -= before->ops[i].pairs;
+			d.radius_sum -= before->ops[i].radius_sum;
+			d.nq_sum -= before->ops[i].nq_sum;
+		}
+	return d;
+}
+
+/* The peak kernel on the operator's sizes and mean radius, printed as fields
+ * of its line; nothing when no cloud of the stage has those sizes. */
+static void print_peak(const peak_setting *pk, const dp_neighbour_op *op, double seconds, dp_error *err)
+{
+	int reattach = !strcmp(op->name, "surface_reattach");
+	const dp_cloud *prefer = !strcmp(op->name, "skeleton_median") ? pk->skeleton_anchors
+				 : reattach                           ? pk->surface_skeleton
+								      : NULL;
+	dp_cloud q_view, data_view;
+	const dp_cloud *q = &q_view, *data = &data_view;
+	size_t nq = op->launches > 0.0 ? (size_t)llround(op->nq_sum / op->launches) : 0;
+	/* re-attachment queries the skeleton points over the skeleton's grid */
+	if (!cloud_of_size(pk, nq, reattach ? prefer : NULL, &q_view) ||
+	    !cloud_of_size(pk, op->ndata, prefer, &data_view)) {
+		printf(",\"peak\":null");
+		return;
+	}
+	float radius = (float)(op->radius_sum / op->launches);
+	float *count = dp_alloc_array(q->n, sizeof(float)), *sum = dp_alloc_array(q->n, sizeof(float));
+	peak_result p;
+	if (!count || !sum || peak_measure(pk->ctx, data, q, radius, 1, count, sum, &p, err) != DP_OK) {
+		fprintf(stderr, "bench_stages: peak beside %s: %s\n", op->name, count && sum ? err->message : "no memory");
+		printf(",\"peak\":null");
+	} else {
+		double nb_rate = seconds > 0 ? op->pairs / seconds : 0.0;
+		printf(",\"peak_radius\":%.6g,\"peak_queries\":%zu,\"peak_points\":%zu,\"peak_seconds_per_launch\":%.6f,\"peak_pair_evals_per_s\":%.4g,"
+		       "\"peak_neighbour_pairs_per_s\":%.4g,\"of_peak_neighbour\":%.3f",
+		       (double)radius, q->n, data->n, p.seconds, p.candidates / p.seconds, p.neighbours / p.seconds,
+		       nb_rate / (p.neighbours / p.seconds));
+	}
+	free(count);
+	free(sum);
+}
+
+/* One line per kernel launched between the two counters, with its true
+ * neighbours (when counted) and the peak beside it (when pk->run). */
+static void print_operators(const input_case *in, const char *stage, const cl_counters *before,
+			    const cl_counters *after, const dp_neighbour_counts *nb_before,
+			    const dp_neighbour_counts *nb_after, const peak_setting *pk)
+{
+	dp_error err = {0};
 	for (size_t i = 0; i < after->nkernels; i++) {
 		dp_cl_kernel_stats d = after->k[i];
 		if (i < before->nkernels) {
@@ -385,12 +533,22 @@ static void print_operators(const input_case *in, const char *stage, const cl_co
 			continue;
 		printf("{\"what\":\"operator\",\"stage\":\"%s\",\"input\":\"%s\",\"kernel\":\"%s\",\"launches\":%.0f,"
 		       "\"seconds\":%.4f,\"pair_evaluations\":%.6g,\"pair_evals_per_s\":%.4g,\"h2d_bytes\":%.0f,"
-		       "\"d2h_bytes\":%.0f,\"h2d_bytes_per_launch\":%.0f,\"h2d_skipped_bytes\":%.0f}\n",
+		       "\"d2h_bytes\":%.0f,\"h2d_bytes_per_launch\":%.0f,\"h2d_skipped_bytes\":%.0f",
 		       stage, in->name, after->names[i], d.launches,
 		       d.seconds, d.pairs, d.seconds > 0 ? d.pairs / d.seconds : 0.0, d.h2d_bytes, d.d2h_bytes,
 		       d.h2d_bytes / d.launches, d.h2d_skipped_bytes);
+		if (nb_before && nb_after) {
+			dp_neighbour_op op = neighbour_diff(nb_before, nb_after, after->names[i]);
+			if (op.launches > 0.0) {
+				printf(",\"neighbour_pairs\":%.6g,\"neighbour_pairs_per_s\":%.4g,\"radius\":%.6g",
+				       op.pairs, d.seconds > 0 ? op.pairs / d.seconds : 0.0, op.radius_sum / op.launches);
+				if (pk->run)
+					print_peak(pk, &op, d.seconds, &err);
+			}
+		}
+		printf("}\n");
+		fflush(stdout);
 	}
-	fflush(stdout);
 }
 
 /* Mean distance between corresponding points of two clouds of one order, in r. */
@@ -544,6 +702,7 @@ static dp_status run_surface(dp_context *ctx, const dp_cloud *c, const dp_cloud 
 typedef struct bench {
 	const options *o;
 	dp_context *cl, *ref;
+	dp_neighbour_counts *cl_nb, *ref_nb; /* the contexts' counts, NULL when off */
 } bench;
 
 /* The OpenCL run's data: the input, each stage's output (out[ST_WLOP] = S,
@@ -556,6 +715,35 @@ typedef struct chain {
 	double r;
 	float *eta;
 } chain;
+
+/* The peak's clouds beside stage s: its input(s) and output. */
+static void stage_clouds(const chain *ch, stage_id s, peak_setting *pk)
+{
+	pk->nclouds = 0;
+	pk->clouds[pk->nclouds++] = &ch->out[s];
+	if (s == ST_SINK)
+		pk->clouds[pk->nclouds++] = &ch->out[ST_NORMALS];
+	if (s == ST_SKELETON)
+		pk->clouds[pk->nclouds++] = &ch->out[ST_SINK];
+	if (s == ST_SURFACE) {
+		pk->clouds[pk->nclouds++] = &ch->out[ST_NORMALS];
+		pk->clouds[pk->nclouds++] = &ch->out[ST_SKELETON];
+	}
+	pk->clouds[pk->nclouds++] = ch->c;
+	pk->skeleton_anchors = &ch->out[ST_SINK];
+	pk->surface_skeleton = &ch->out[ST_SKELETON];
+}
+
+/* Takes the neighbour count's time out of a stage's wall time. */
+static void take_count(run_result *r, const dp_neighbour_counts *before, const dp_neighbour_counts *after)
+{
+	if (!before || !after)
+		return;
+	r->counted = 1;
+	r->neighbours = after->pairs - before->pairs;
+	r->count_seconds = after->seconds - before->seconds;
+	r->seconds -= r->count_seconds;
+}
 
 /* Stage s on ctx, from the OpenCL chain's input of that stage, into *out. */
 static dp_status run_stage(dp_context *ctx, stage_id s, int cap, const chain *ch, dp_cloud *out, double *r_out,
@@ -592,6 +780,9 @@ static void print_totals(const bench *b, const input_case *in, const run_result 
 			t.seconds += runs[s].seconds;
 			t.pairs += runs[s].pairs;
 			t.iterations += runs[s].iterations > 0 ? runs[s].iterations : 0;
+			t.counted |= runs[s].counted;
+			t.neighbours += runs[s].neighbours;
+			t.count_seconds += runs[s].count_seconds;
 		}
 		print_run(in, "total", k ? b->ref : b->cl, &t);
 		if (in->paper)
@@ -634,10 +825,18 @@ static int run_input(const bench *b, const input_case *in, const dp_cloud *c)
 		if (!in->warm_up)
 			fprintf(stderr, "bench_stages: %s %s\n", in->name, stage_names[s]);
 		cl_counters before, after;
+		dp_neighbour_counts nb_before, nb_after;
 		cl_counters_take(b->cl, &before);
+		if (b->cl_nb)
+			nb_before = *b->cl_nb;
 		if (run_stage(b->cl, (stage_id)s, 0, &ch, &ch.out[s], &ch.r, &cl_runs[s], &err) != DP_OK)
 			goto done;
 		cl_counters_take(b->cl, &after);
+		if (b->cl_nb) {
+			nb_after = *b->cl_nb;
+			if (s != ST_NORMALS)
+				take_count(&cl_runs[s], &nb_before, &nb_after);
+		}
 		cl_runs[s].moved = s != ST_NORMALS;
 		cl_runs[s].h2d = after.h2d - before.h2d;
 		cl_runs[s].d2h = after.d2h - before.d2h;
@@ -651,12 +850,17 @@ static int run_input(const bench *b, const input_case *in, const dp_cloud *c)
 		print_run(in, stage_names[s], b->cl, &cl_runs[s]);
 		if (s == ST_WLOP && in->paper)
 			printf(",\"paper_seconds\":%.1f", in->paper->tw);
+		if (s != ST_WLOP && in->paper)
+			printf(",\"paper_deep_seconds\":%.1f", in->paper->td);
 		if (s == ST_NORMALS)
 			printf(",\"r\":%.6g,\"seconds_spacing\":%.4f,\"host_only\":true", ch.r,
 			       cl_runs[s].seconds_spacing);
 		printf("}\n");
 		fflush(stdout);
-		print_operators(in, stage_names[s], &before, &after);
+		peak_setting pk = {.ctx = b->cl, .run = o->peak};
+		stage_clouds(&ch, (stage_id)s, &pk);
+		print_operators(in, stage_names[s], &before, &after, b->cl_nb ? &nb_before : NULL,
+				b->cl_nb ? &nb_after : NULL, &pk);
 		if (!use_ref) {
 			print_skip(in, stage_names[s], "ref", why);
 			continue;
@@ -664,8 +868,14 @@ static int run_input(const bench *b, const input_case *in, const dp_cloud *c)
 
 		int cap = o->ref_uncapped ? 0 : cl_runs[s].iterations;
 		double r_ref;
+		if (b->ref_nb)
+			nb_before = *b->ref_nb;
 		if (run_stage(b->ref, (stage_id)s, cap, &ch, &ref_out, &r_ref, &ref_runs[s], &err) != DP_OK)
 			goto done;
+		if (b->ref_nb && s != ST_NORMALS) {
+			nb_after = *b->ref_nb;
+			take_count(&ref_runs[s], &nb_before, &nb_after);
+		}
 		ref_stages |= 1 << s;
 		print_run(in, stage_names[s], b->ref, &ref_runs[s]);
 		if (s == ST_NORMALS) {
@@ -697,8 +907,9 @@ int main(int argc, char **argv)
 	if (parse_options(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_stages [--sizes C:S[:shape],...|none] "
 				"[--stages wlop,normals,sink,skeleton,surface,total]\n"
-				"                    [--ref-max N] [--ref-uncapped] [--quick] [--no-statue] "
-				"[--no-warm-up]\n                    [--device D] [--data DIR]\n");
+				"                    [--ref-max N] [--ref-uncapped] [--quick] [--table1] [--no-statue] "
+				"[--no-warm-up]\n                    [--no-neighbours] [--no-peak] [--device D] "
+				"[--data DIR]\n");
 		return 2;
 	}
 	dp_error err = {0};
@@ -708,6 +919,11 @@ int main(int argc, char **argv)
 		fprintf(stderr, "bench_stages: %s\n", err.message);
 		dp_context_free(b.cl);
 		return 1;
+	}
+	dp_neighbour_counts cl_nb = {0}, ref_nb = {0};
+	if (o.neighbours) {
+		b.cl->neighbours = b.cl_nb = &cl_nb;
+		b.ref->neighbours = b.ref_nb = &ref_nb;
 	}
 	int rc = 0;
 	if (o.warm_up) {
@@ -736,17 +952,19 @@ int main(int argc, char **argv)
 		rc = run_input(&b, &in, &c) ? 1 : 0;
 		dp_cloud_free(&c);
 	}
-	if (!rc && o.statue) {
+	size_t ndata = o.table1 ? sizeof data_inputs / sizeof data_inputs[0] : (size_t)o.statue;
+	for (size_t i = 0; i < ndata && !rc; i++) {
+		const data_input *d = &data_inputs[i];
 		char path[4096];
-		snprintf(path, sizeof path, "%s/%s", o.data, STATUE_FILE);
+		snprintf(path, sizeof path, "%s/%s", o.data, d->file);
 		dp_cloud c;
 		if (dp_cloud_read(path, &c, DP_READ_POINTS, &err) != DP_OK) {
-			fprintf(stderr, "bench_stages: skipping the statue: %s\n", err.message);
-			input_case in = {.name = STATUE_NAME, .samples = STATUE_SAMPLES};
-			print_skip(&in, "total", "cl", "statue data absent or unreadable");
+			fprintf(stderr, "bench_stages: skipping %s: %s\n", d->name, err.message);
+			input_case in = {.name = d->name, .samples = d->samples};
+			print_skip(&in, "total", "cl", "data absent or unreadable");
 		} else {
-			input_case in = {.name = STATUE_NAME, .size = c.n, .samples = STATUE_SAMPLES,
-					 .paper = paper_lookup(c.n, STATUE_SAMPLES)};
+			input_case in = {.name = d->name, .size = c.n, .samples = d->samples,
+					 .paper = paper_lookup(c.n, d->samples)};
 			rc = run_input(&b, &in, &c) ? 1 : 0;
 			dp_cloud_free(&c);
 		}

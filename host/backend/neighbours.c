@@ -28,7 +28,7 @@ static void record(dp_neighbour_counts *c, const char *op, const dp_grid *g, siz
 		r->launches += 1.0;
 		r->pairs += pairs;
 		r->radius_sum += radius;
-		r->nq = nq;
+		r->nq_sum += (double)nq;
 		r->ndata = g->n;
 	}
 	c->pairs += pairs;

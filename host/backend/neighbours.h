@@ -18,7 +18,8 @@
 typedef struct dp_neighbour_op {
 	char name[64];                        /* the operator's kernel name */
 	double launches, pairs, radius_sum;   /* radius_sum / launches: its mean radius */
-	size_t nq, ndata;                     /* queries and grid points of its last launch */
+	double nq_sum;                        /* nq_sum / launches: its mean query count */
+	size_t ndata;                         /* grid points of its last launch */
 } dp_neighbour_op;
 
 typedef struct dp_neighbour_counts {
