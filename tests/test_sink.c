@@ -368,21 +368,79 @@ static void test_hemisphere(void **state)
 	assert_true(fabs(met) < 0.5);
 }
 
-/* The meeting point of hand-placed lines: two surface points 90° apart on a
- * sphere of radius 10 around the origin meet at the centre, whatever depth
- * the settled point stopped at; opposite normals (parallel lines) fix no
- * depth; a partner whose surface point is near (a crease) or whose normal is
- * within ω does not count; the move is clamped. */
+/* A thin wall: both faces of a plate 3 r thick, normals tilted by 8°
+ * (noise of PCA normals). The faces' sinking lines are nearly the same line,
+ * so where they cross follows the noise; the medial ball's centre is the
+ * mid-plane whatever the tilt. Anchors away from the rim must stay inside
+ * the plate, near its mid-plane (measured with the lines' crossing: 0.86 r
+ * off on average, a fifth outside; with the ball: 0.03 r). */
+#define WALL_SIDE 40
+#define WALL_THICKNESS 3.0
+#define WALL_TILT_DEG 8.0
+static void test_thin_wall(void **state)
+{
+	(void)state;
+	size_t n = 2 * WALL_SIDE * WALL_SIDE;
+	dp_cloud c;
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_alloc(&c, n, 1, &err), DP_OK);
+	dp_rng rng;
+	dp_rng_seed(&rng, 9);
+	double tilt = tan(WALL_TILT_DEG * M_PI / 180.0);
+	size_t k = 0;
+	for (int face = 0; face < 2; face++)
+		for (int i = 0; i < WALL_SIDE; i++)
+			for (int j = 0; j < WALL_SIDE; j++, k++) {
+				double side = face ? 1.0 : -1.0;
+				c.x[k] = (float)(i - WALL_SIDE / 2 + NOISE * dp_rng_normal(&rng));
+				c.y[k] = (float)(j - WALL_SIDE / 2 + NOISE * dp_rng_normal(&rng));
+				c.z[k] = (float)(side * WALL_THICKNESS / 2 + NOISE * dp_rng_normal(&rng));
+				double v[3] = {tilt * dp_rng_normal(&rng), tilt * dp_rng_normal(&rng), side};
+				double len = norm3(v[0], v[1], v[2]);
+				c.nx[k] = (float)(v[0] / len);
+				c.ny[k] = (float)(v[1] / len);
+				c.nz[k] = (float)(v[2] / len);
+			}
+	double r = spacing(&c);
+	dp_cloud h;
+	dp_sink_stats st;
+	run_sink(tk_cl_context(), &c, r, &h, &st);
+	size_t inner = 0, outside = 0;
+	double sum = 0.0, worst = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		if (fabs(c.x[i]) > WALL_SIDE / 4 || fabs(c.y[i]) > WALL_SIDE / 4)
+			continue;
+		double off = fabs(h.z[i]);
+		inner++;
+		sum += off;
+		worst = fmax(worst, off);
+		outside += off > WALL_THICKNESS / 2;
+	}
+	printf("  wall %.1f r thick: %zu anchors away from the rim %.3f r from the mid-plane on average, largest "
+	       "%.3f r, %zu outside the wall\n", WALL_THICKNESS / r, inner, sum / (double)inner / r, worst / r, outside);
+	assert_int_equal(outside, 0);
+	assert_true(sum / (double)inner < 0.25 * r);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+/* The meeting point of hand-placed partners, for p on top of a sphere of
+ * radius 10 around the origin with its inner end stopped at depth 8.5: a
+ * partner on the sphere 90° away (the lines cross at the origin) and one on
+ * the opposite side (a slab's other face: the ball touching both faces is
+ * centred at the origin) both put the medial axis at the origin; a partner
+ * whose surface point is near (a crease) or whose normal is within ω does
+ * not count; the move is clamped, and never goes above p. */
 static void test_meet_shift(void **state)
 {
 	(void)state;
-	/* One partner at a time: 0 at 90° (its inner end 1 short of the centre
-	 * on its line), 1 with the opposite normal, 2 a crease neighbour (its
-	 * surface point near p), 3 a far one whose normal is only 30° away. */
+	/* One partner at a time: 0 at 90°, 1 with the opposite normal, 2 a
+	 * crease neighbour (its surface point near p, its normal 90° away), 3 a
+	 * far one whose normal is only 30° away. */
 	const float g[4][3] = {{-1.0f, 0.0f, 0.0f}, {0.5f, 0.5f, 0.0f}, {0.2f, 0.2f, 1.2f}, {0.0f, 0.3f, 0.8f}};
 	const float sp[4][3] = {{-10.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -10.0f}, {0.5f, 0.0f, 10.0f}, {5.0f, 0.0f, 8.66f}};
-	const float sn[4][3] = {{-1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {0.0f, 0.0f, 1.0f}, {0.5f, 0.0f, 0.866f}};
-	const float want[4] = {1.5f, 0.0f, 0.0f, 0.0f};
+	const float sn[4][3] = {{-1.0f, 0.0f, 0.0f}, {0.0f, 0.0f, -1.0f}, {1.0f, 0.0f, 0.0f}, {0.5f, 0.0f, 0.866f}};
+	const float want[4] = {1.5f, 1.5f, 0.0f, 0.0f};
 	float p[3] = {0.0f, 0.0f, 10.0f}, n[3] = {0.0f, 0.0f, 1.0f}, q[3] = {0.0f, 0.0f, 1.5f};
 	dp_error err = {0};
 	for (int k = 0; k < 4; k++) {
@@ -395,13 +453,24 @@ static void test_meet_shift(void **state)
 		};
 		float shift = dp_meet_shift(&a, q, p, n);
 		printf("  partner %d: shift %.4f (expected %.4f)\n", k, shift, want[k]);
-		/* q is 8.5 deep; the lines of partner 0 cross p's at depth 10 */
 		assert_float_equal(shift, want[k], 1e-4f);
 		if (k == 0) {
-			float deep[3] = {0.0f, 0.0f, -1.0f};
+			float deep[3] = {0.0f, 0.0f, -1.0f}, shallow[3] = {0.0f, 0.0f, 9.5f};
 			assert_float_equal(dp_meet_shift(&a, deep, p, n), -1.0f, 1e-4f);
 			a.max_shift = 1.0f;
 			assert_float_equal(dp_meet_shift(&a, q, p, n), 1.0f, 1e-6f);
+			/* a partner whose line crosses p's above p: q comes up to p,
+			 * no further */
+			dp_grid near = {0};
+			const float nq[3] = {0.0f, 0.5f, 9.0f}, ns[3] = {5.0f, 0.0f, 20.0f}, nn[3] = {-1.0f, 0.0f, 0.0f};
+			assert_int_equal(dp_grid_build(&near, 1, &nq[0], &nq[1], &nq[2], 4.0f, &err), DP_OK);
+			dp_meet_args up = {
+				.inner = &near, .sx = &ns[0], .sy = &ns[1], .sz = &ns[2],
+				.nx = &nn[0], .ny = &nn[1], .nz = &nn[2],
+				.radius = 4.0f, .far_d2 = 4.0f, .cos_w = a.cos_w, .max_shift = 3.0f,
+			};
+			assert_float_equal(dp_meet_shift(&up, shallow, p, n), -0.5f, 1e-4f);
+			dp_grid_free(&near);
 		}
 		dp_grid_free(&grid);
 	}
@@ -418,31 +487,47 @@ static void test_shallow_cap(void **state)
 /* The whole stage gives the same anchors on both backends (small input: the
  * reference is slow). Sums in a different order could flip a settle decision
  * that sits exactly on its threshold, which would show as a difference of a
- * whole step or more; on this input none does. */
+ * whole step or more; on this input none does. Without the meeting step the
+ * anchors agree to 1e-3 r. The meeting step averages over the partners within
+ * the settle radius, and a partner on that radius's edge can be in one
+ * backend's set and not the other's: the point then moves by a fraction of
+ * the partners' spread (measured: 1 of 564 anchors, 0.0023 r). */
 static void test_backends_agree(void **state)
 {
 	(void)state;
 	shape s = {.kind = SPHERE, .radius = 1.0};
-	dp_cloud c, a, b;
+	dp_cloud c;
 	sample_shape(&s, dmin_for(&s, 700), 6, &c);
 	double r = spacing(&c);
-	dp_sink_stats sa, sb;
-	run_sink(tk_ref_context(), &c, r, &a, &sa);
-	run_sink(tk_cl_context(), &c, r, &b, &sb);
-	size_t differ = 0;
-	double worst = 0.0;
-	for (size_t i = 0; i < c.n; i++) {
-		double d = norm3(a.x[i] - b.x[i], a.y[i] - b.y[i], a.z[i] - b.z[i]);
-		worst = fmax(worst, d);
-		differ += d > 1e-3 * r;
+	for (int meet = 0; meet < 2; meet++) {
+		dp_sink_params p;
+		dp_sink_params_default(&p);
+		if (!meet)
+			p.meet_shift_r = 0.0;
+		dp_cloud a, b;
+		dp_sink_stats sa, sb;
+		run_sink_with(tk_ref_context(), &c, r, &p, &a, &sa);
+		run_sink_with(tk_cl_context(), &c, r, &p, &b, &sb);
+		size_t differ = 0;
+		double worst = 0.0;
+		for (size_t i = 0; i < c.n; i++) {
+			double d = norm3(a.x[i] - b.x[i], a.y[i] - b.y[i], a.z[i] - b.z[i]);
+			worst = fmax(worst, d);
+			differ += d > 1e-3 * r;
+		}
+		printf("  ref vs cl, meeting step %s: %zu of %zu anchors differ by more than 1e-3 r, largest "
+		       "difference %.3g r\n", meet ? "on" : "off", differ, c.n, worst / r);
+		assert_int_equal(sa.iterations, sb.iterations);
+		if (meet) {
+			assert_true(differ <= c.n / 100);
+			assert_true(worst < 0.01 * r);
+		} else {
+			assert_true(differ == 0);
+		}
+		dp_cloud_free(&a);
+		dp_cloud_free(&b);
 	}
-	printf("  ref vs cl: %zu of %zu anchors differ by more than 1e-3 r, largest difference %.3g r\n", differ,
-	       c.n, worst / r);
-	assert_int_equal(sa.iterations, sb.iterations);
-	assert_true(differ == 0);
 	dp_cloud_free(&c);
-	dp_cloud_free(&a);
-	dp_cloud_free(&b);
 }
 
 /* The iteration cap stops the loop and reports the points still moving. */
@@ -539,6 +624,7 @@ int main(void)
 		cmocka_unit_test(test_torus),
 		cmocka_unit_test(test_hemisphere),
 		cmocka_unit_test(test_meet_shift),
+		cmocka_unit_test(test_thin_wall),
 		cmocka_unit_test(test_shallow_cap),
 		cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_cap_reported),

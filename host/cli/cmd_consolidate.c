@@ -148,7 +148,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--medial-margin", CLI_DOUBLE, &p->sink.medial_margin_r,
 		 "a sinking point past the medial axis by this much, in r, settles (0 = off)", NULL, NULL},
 		{"--meet-shift", CLI_DOUBLE, &p->sink.meet_shift_r,
-		 "a point settled on a front moves at most this far, in r, to where its line meets its partners' (0 = off)",
+		 "a point settled on a front moves at most this far, in r, to where its partners place the medial axis (0 = off)",
 		 NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},

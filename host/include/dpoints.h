@@ -369,14 +369,17 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     |p_i - p_i'| > front_factor × settle radius (an opposing front; nearby
  *     surface points would make creases settle at once);
  *  1a. meeting point (not in the paper): a point that settles on a front moves
- *     along its line -n_i, by at most meet_shift_r, to where that line passes
- *     closest to its partners' lines (the q_i' of step 1 with their p_i', n_i'),
- *     each weighted by 1 - (n_i·n_i')². The test stops it up to a settle
- *     radius and a step short of the medial axis; where every front comes
- *     from one side (a one-view scan) the skeleton inherits that offset and
- *     the volume prior copies it into the completed region (measured on a
- *     one-view sphere at 4000 deep points: skeleton 1.9 r towards the
- *     scanner, far half 0.046 R too close; stage host/stages/meet.h);
+ *     along its line -n_i, by at most meet_shift_r and never above p_i, to
+ *     where its partners (the q_i' of step 1, with their p_i', n_i') place
+ *     the medial axis: where the two sinking lines pass closest, or for a
+ *     near-opposite normal (a thin wall, whose lines nearly coincide) the
+ *     centre of the ball touching p_i and the partner's tangent plane. The
+ *     test stops it up to a settle radius and a step short of the axis;
+ *     where every front comes from one side (a one-view scan) the skeleton
+ *     inherits that offset and the volume prior copies it into the completed
+ *     region (measured on a one-view sphere at 4000 deep points: skeleton
+ *     1.9 r towards the scanner, far half 0.046 R too close;
+ *     host/stages/meet.h);
  *  1b. medial test (not in the paper): q_i settles when some surface point
  *     is nearer to it than p_i by more than medial_margin_r, i.e. q_i has
  *     passed the centre of its inscribed ball. Where the far side was never

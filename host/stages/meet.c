@@ -1,8 +1,10 @@
 #include "stages/meet.h"
 
-/* Partners whose lines together fix the depth less firmly than this (the sum
- * of their weights 1 - (n·n')²) leave the point where it settled. */
-#define MIN_CONDITIONING 0.05f
+#include <math.h>
+
+/* Partners whose normal is within 45° of the opposite one: their sinking
+ * line and the point's are too close to parallel to cross where it matters. */
+#define OPPOSITE_COS -0.70710678
 
 float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], const float n[3])
 {
@@ -16,22 +18,37 @@ float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], c
 			float dx = q[0] - g->x[k], dy = q[1] - g->y[k], dz = q[2] - g->z[k];
 			if (dx * dx + dy * dy + dz * dz >= r2)
 				continue;
-			float w[3] = {p[0] - a->sx[k], p[1] - a->sy[k], p[2] - a->sz[k]};
+			float w[3] = {a->sx[k] - p[0], a->sy[k] - p[1], a->sz[k] - p[2]};
 			if (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] <= a->far_d2)
 				continue;
 			float b = n[0] * a->nx[k] + n[1] * a->ny[k] + n[2] * a->nz[k];
 			if (b > a->cos_w)
 				continue;
-			/* Lines p - t n and s - u n': the closest approach is at
-			 * t = (b e - d) / (1 - b²) with d = -n·w, e = -n'·w. */
-			float d = -(n[0] * w[0] + n[1] * w[1] + n[2] * w[2]);
-			float e = -(a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2]);
-			num += (double)b * e - d;
-			den += 1.0 - (double)b * b;
+			double t, weight;
+			if (b < OPPOSITE_COS) {
+				/* Near-opposite normals (a thin wall): the two sinking
+				 * lines nearly coincide, so take the ball centred at
+				 * p - t n with radius t that touches the partner's
+				 * tangent plane, where n'·(s - p) = t (1 - b). */
+				t = (a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2]) / (1.0 - (double)b);
+				weight = 1.0;
+			} else {
+				/* Lines p - t n and s - u n' are closest where
+				 * t (1 - b²) = b n'·(s - p) - n·(s - p). */
+				double d = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
+				double e = a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2];
+				weight = 1.0 - (double)b * b;
+				t = (b * e - d) / weight;
+			}
+			num += weight * t;
+			den += weight;
 		}
-	if (!(den > MIN_CONDITIONING))
+	if (!(den > 0.0))
 		return 0.0f;
 	float depth = -((q[0] - p[0]) * n[0] + (q[1] - p[1]) * n[1] + (q[2] - p[2]) * n[2]);
 	float shift = (float)(num / den) - depth;
-	return fminf(fmaxf(shift, -a->max_shift), a->max_shift);
+	if (!isfinite(shift))
+		return 0.0f;
+	/* never above the surface point, at most max_shift either way */
+	return fminf(fmaxf(shift, fmaxf(-a->max_shift, -depth)), a->max_shift);
 }

@@ -42,7 +42,8 @@
  * away); without the test every cosine passes. */
 #define SAME_SIDE_COS 0.0f
 #define ANY_SIDE_COS -2.0f
-/* Skeleton points this close (in r) are one candidate of re-attachment. */
+/* Skeleton points in one cube of this side (in r) are one candidate of
+ * re-attachment. */
 #define SKELETON_MERGE_R 0.05
 
 void dp_surface_params_default(dp_surface_params *p)
@@ -285,12 +286,19 @@ static dp_status skeleton_grid(work *w, const dp_cloud *k, size_t n, double r, f
 	if (s != DP_OK)
 		return s;
 	size_t m = 0;
-	for (size_t i = 0; i < n; i++)
-		if (w->of[i] == i) {
+	for (size_t i = 0; i < n; i++) {
+		/* every inner end starts at its cube's point, so the first
+		 * re-attachment counts only real moves */
+		uint32_t first = w->of[i];
+		w->a[A_QX][i] = k->x[first];
+		w->a[A_QY][i] = k->y[first];
+		w->a[A_QZ][i] = k->z[first];
+		if (first == i) {
 			kx[m] = k->x[i];
 			ky[m] = k->y[i];
 			kz[m++] = k->z[i];
 		}
+	}
 	return dp_grid_build(&w->skeleton, m, kx, ky, kz, cell, err);
 }
 
@@ -396,9 +404,6 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	memcpy(a[A_PX], samples->x, n * sizeof(float));
 	memcpy(a[A_PY], samples->y, n * sizeof(float));
 	memcpy(a[A_PZ], samples->z, n * sizeof(float));
-	memcpy(a[A_QX], skeleton->x, n * sizeof(float));
-	memcpy(a[A_QY], skeleton->y, n * sizeof(float));
-	memcpy(a[A_QZ], skeleton->z, n * sizeof(float));
 	for (size_t i = 0; i < n; i++) {
 		double x = samples->nx[i], y = samples->ny[i], z = samples->nz[i];
 		double len = sqrt(x * x + y * y + z * z);
