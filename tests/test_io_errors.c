@@ -4,6 +4,8 @@
 #include "files.h"
 #include "testkit.h"
 
+#include "io/io.h"
+
 #include <errno.h>
 #include <math.h>
 #include <signal.h>
@@ -580,6 +582,22 @@ static void test_write_errors(void **state)
 	dp_cloud_free(&c);
 }
 
+/* Out of memory while collecting points names the file like every other
+ * read error (a count beyond what any allocation can hold is refused before
+ * trying). */
+static void test_out_of_memory_names_file(void **state)
+{
+	(void)state;
+	dp_io_builder b;
+	dp_io_builder_init(&b, "scan.xyz");
+	dp_error err = {0};
+	assert_int_equal(dp_io_builder_reserve(&b, SIZE_MAX / 4, &err), DP_ERR_NOMEM);
+	printf("%s\n", err.message);
+	assert_true(strncmp(err.message, "scan.xyz: out of memory", strlen("scan.xyz: out of memory")) == 0);
+	assert_null(strchr(err.message, '\n'));
+	dp_io_builder_free(&b);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -594,6 +612,7 @@ int main(void)
 		cmocka_unit_test(test_fuzz_random),
 		cmocka_unit_test(test_fuzz_mutations),
 		cmocka_unit_test(test_write_errors),
+		cmocka_unit_test(test_out_of_memory_names_file),
 	};
 	return cmocka_run_group_tests(tests, setup, teardown);
 }

@@ -10,15 +10,18 @@
  * number of reallocations logarithmic. */
 #define BUILDER_MIN_CAP 4096
 
-void dp_io_builder_init(dp_io_builder *b)
+void dp_io_builder_init(dp_io_builder *b, const char *path)
 {
 	memset(b, 0, sizeof *b);
+	b->path = path;
 }
 
 void dp_io_builder_free(dp_io_builder *b)
 {
+	const char *path = b->path;
 	dp_cloud_free(&b->c);
 	memset(b, 0, sizeof *b);
+	b->path = path;
 }
 
 dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err)
@@ -78,20 +81,20 @@ dp_status dp_io_builder_reserve(dp_io_builder *b, size_t n, dp_error *err)
 	if (n <= b->cap)
 		return DP_OK;
 	if (n > SIZE_MAX / 2 / sizeof(float))
-		return dp_fail(err, DP_ERR_NOMEM, "out of memory: %zu points", n);
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for %zu points", b->path, n);
 	float **arrays[6] = {&b->c.x, &b->c.y, &b->c.z, &b->c.nx, &b->c.ny, &b->c.nz};
 	int count = b->normals ? 6 : 3;
 	for (int i = 0; i < count; i++)
 		if (!grow_array(arrays[i], n))
-			return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu points", n);
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for %zu points", b->path, n);
 	if (b->colours) {
 		unsigned char *rgb = realloc(b->c.rgb, 3 * (n ? n : 1));
 		if (!rgb)
-			return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu colours", n);
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for %zu colours", b->path, n);
 		b->c.rgb = rgb;
 	}
 	if (b->intensities && !grow_array(&b->c.intensity, n))
-		return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu intensities", n);
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for %zu intensities", b->path, n);
 	b->cap = n;
 	return DP_OK;
 }
@@ -127,10 +130,10 @@ dp_status dp_io_builder_add_triangle(dp_io_builder *b, uint32_t a, uint32_t v1, 
 	if (b->c.nfaces == b->face_cap) {
 		size_t cap = b->face_cap < BUILDER_MIN_CAP ? BUILDER_MIN_CAP : 2 * b->face_cap;
 		if (cap > SIZE_MAX / 3 / sizeof(uint32_t))
-			return dp_fail(err, DP_ERR_NOMEM, "out of memory: %zu triangles", cap);
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for %zu triangles", b->path, cap);
 		uint32_t *faces = realloc(b->c.faces, 3 * cap * sizeof *faces);
 		if (!faces)
-			return dp_fail(err, DP_ERR_NOMEM, "out of memory allocating %zu triangles", cap);
+			return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for %zu triangles", b->path, cap);
 		b->c.faces = faces;
 		b->face_cap = cap;
 	}

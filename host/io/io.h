@@ -116,6 +116,7 @@ typedef struct dp_io_builder {
 	int normals;         /* points carry normals */
 	int colours;         /* points carry colours (c.rgb, 3 bytes each) */
 	int intensities;     /* points carry an intensity (c.intensity) */
+	const char *path;    /* the file being read, for messages; not owned */
 } dp_io_builder;
 
 /* A polygon being fanned into triangles (v0, v[i-1], v[i]). */
@@ -124,7 +125,9 @@ typedef struct dp_io_fan {
 	size_t count;
 } dp_io_fan;
 
-void dp_io_builder_init(dp_io_builder *b);
+/* An empty builder for the file `path` (borrowed: it names the file in
+ * out-of-memory messages). */
+void dp_io_builder_init(dp_io_builder *b, const char *path);
 /* Gives the builder normal arrays; call before adding points. */
 dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err);
 /* Gives the builder colour arrays; call before adding points. Each added

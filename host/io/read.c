@@ -72,7 +72,7 @@ static dp_status read_stream(dp_io_stream *s, dp_io_reader read, dp_cloud *cloud
 		st = dp_fail(err, DP_ERR_EMPTY, "%s: empty file", s->path);
 	} else {
 		dp_io_builder b;
-		dp_io_builder_init(&b);
+		dp_io_builder_init(&b, s->path);
 		st = read(s, &b, flags, err);
 		if (st == DP_OK)
 			st = dp_io_builder_finish(&b, s->path, cloud, err);
@@ -159,7 +159,7 @@ dp_status dp_ply_read_edges(const char *path, uint32_t **edges, size_t *nedges, 
 		st = dp_fail(err, DP_ERR_EMPTY, "%s: empty file", path);
 	} else {
 		dp_io_builder b;
-		dp_io_builder_init(&b);
+		dp_io_builder_init(&b, path);
 		st = dp_io_read_ply_edges(&s, &b, edges, nedges, err);
 		dp_io_builder_free(&b);
 	}

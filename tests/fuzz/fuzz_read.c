@@ -110,7 +110,7 @@ static void read_edges(const unsigned char *data, size_t size)
 	if (dp_io_open_memory(&s, data, size, NAME, &err) != DP_OK)
 		return;
 	dp_io_builder b;
-	dp_io_builder_init(&b);
+	dp_io_builder_init(&b, NAME);
 	uint32_t *edges = (uint32_t *)&b; /* not NULL, so an unset output shows */
 	size_t nedges = 1;
 	dp_status st = dp_io_read_ply_edges(&s, &b, &edges, &nedges, &err);
