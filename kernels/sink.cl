@@ -39,19 +39,21 @@ __kernel void sink_front(const uint n, __global const float *qx, __global const 
 #define SINK_STEP_BODY(T, LOAD, k, live, s)                                                    \
 	{                                                                                      \
 		T dx = ax - LOAD(gx, k), dy = ay - LOAD(gy, k), dz = az - LOAD(gz, k);        \
-		T one = select((T)0.0f, (T)1.0f, (live) & (dx * dx + dy * dy + dz * dz < r2));  \
+		T one = select((T)0.0f, (T)1.0f,                                               \
+			       (live) & (dx * dx + dy * dy + dz * dz < r2) & (LOAD(stop, k) >= low)); \
 		sum##s += one * LOAD(move, k);                                                 \
 		count##s += one;                                                               \
 	}
 
 __kernel void sink_step(const uint n, __global const float *px, __global const float *py,
-			__global const float *pz, GRID_ARGS, __global const float *move, const float radius,
-			__global float *mean)
+			__global const float *pz, __global const float *depth, GRID_ARGS,
+			__global const float *move, __global const float *stop, const float radius,
+			const float margin, __global float *mean)
 {
 	uint i = get_global_id(0);
 	if (i >= n)
 		return;
-	float ax = px[i], ay = py[i], az = pz[i];
+	float ax = px[i], ay = py[i], az = pz[i], low = depth[i] - margin;
 	float r2 = radius * radius;
 	LANE_T sum_v = 0.0f, count_v = 0.0f;
 	float sum_s = 0.0f, count_s = 0.0f;

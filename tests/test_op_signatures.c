@@ -62,11 +62,12 @@ static void test_swapped_arguments_are_refused(void **state)
 	(void)state;
 	dp_error err = {0};
 	assert_int_equal(check_with("__kernel void sink_step(const uint n, __global const float *px,"
-				    " __global const float *py, __global const float *pz, GRID_ARGS,"
-				    " const float radius, __global const float *move, __global float *mean) {}\n",
+				    " __global const float *py, __global const float *pz, __global const float *depth, GRID_ARGS,"
+				    " const float radius, __global const float *move, __global const float *stop,"
+				    " const float margin, __global float *mean) {}\n",
 				    OPTIONS, &err),
 			 DP_ERR_KERNEL_BUILD);
-	assert_non_null(strstr(err.message, "kernel sink_step argument 11 is by value float radius"));
+	assert_non_null(strstr(err.message, "kernel sink_step argument 12 is by value float radius"));
 	assert_non_null(strstr(err.message, "row says __global const float* move"));
 }
 
@@ -75,11 +76,12 @@ static void test_missing_argument_is_refused(void **state)
 	(void)state;
 	dp_error err = {0};
 	assert_int_equal(check_with("__kernel void sink_step(const uint n, __global const float *px,"
-				    " __global const float *py, __global const float *pz, GRID_ARGS,"
-				    " __global const float *move, __global float *mean) {}\n",
+				    " __global const float *py, __global const float *pz, __global const float *depth, GRID_ARGS,"
+				    " __global const float *move, const float radius, const float margin,"
+				    " __global float *mean) {}\n",
 				    OPTIONS, &err),
 			 DP_ERR_KERNEL_BUILD);
-	assert_non_null(strstr(err.message, "kernel sink_step takes 13 arguments, its operator table row 14"));
+	assert_non_null(strstr(err.message, "kernel sink_step takes 16 arguments, its operator table row 17"));
 }
 
 static void test_retyped_or_writable_input_is_refused(void **state)
@@ -87,17 +89,19 @@ static void test_retyped_or_writable_input_is_refused(void **state)
 	(void)state;
 	dp_error err = {0};
 	assert_int_equal(check_with("__kernel void sink_step(const uint n, __global const float *px,"
-				    " __global const float *py, __global const float *pz, GRID_ARGS,"
-				    " __global const int *move, const float radius, __global float *mean) {}\n",
+				    " __global const float *py, __global const float *pz, __global const float *depth, GRID_ARGS,"
+				    " __global const int *move, __global const float *stop, const float radius,"
+				    " const float margin, __global float *mean) {}\n",
 				    OPTIONS, &err),
 			 DP_ERR_KERNEL_BUILD);
-	assert_non_null(strstr(err.message, "argument 11 is __global const int* move"));
+	assert_non_null(strstr(err.message, "argument 12 is __global const int* move"));
 	assert_int_equal(check_with("__kernel void sink_step(const uint n, __global const float *px,"
-				    " __global const float *py, __global const float *pz, GRID_ARGS,"
-				    " __global float *move, const float radius, __global float *mean) {}\n",
+				    " __global const float *py, __global const float *pz, __global const float *depth, GRID_ARGS,"
+				    " __global float *move, __global const float *stop, const float radius,"
+				    " const float margin, __global float *mean) {}\n",
 				    OPTIONS, &err),
 			 DP_ERR_KERNEL_BUILD);
-	assert_non_null(strstr(err.message, "argument 11 is __global float* move"));
+	assert_non_null(strstr(err.message, "argument 12 is __global float* move"));
 }
 
 /* Without -cl-kernel-arg-info there may be nothing to compare: then the

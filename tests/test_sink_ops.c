@@ -14,10 +14,11 @@ typedef struct fixture {
 	float *nx, *ny, *nz; /* their unit normals */
 	float *qx, *qy, *qz; /* inner points, independent of the surface points */
 	float *move;
+	float *stop, *depth; /* where settled points stopped (+inf: moving); each query's depth */
 	dp_grid inner, surface;
 	/* attributes in the inner grid's order, then in the surface grid's */
 	float *iq_px, *iq_py, *iq_pz, *iq_nx, *iq_ny, *iq_nz;
-	float *sf_nx, *sf_ny, *sf_nz, *sf_qx, *sf_qy, *sf_qz, *sf_move;
+	float *sf_nx, *sf_ny, *sf_nz, *sf_qx, *sf_qy, *sf_qz, *sf_move, *sf_stop;
 } fixture;
 
 /* Radii: the settle test in the inner grid, P_i in the surface grid. The far
@@ -29,6 +30,10 @@ typedef struct fixture {
 #define STATIC_RADIUS 1.5f
 #define SPACING 0.3f
 #define COS_OMEGA 0.70710678f
+/* Depths of the step's queries and stops, and the margin: every outcome of
+ * the stop test is common. */
+#define STOP_DEPTH 3.0f
+#define STOP_MARGIN 0.5f
 
 static float *gathered(const dp_grid *g, const float *src)
 {
@@ -51,6 +56,8 @@ static int setup(void **state)
 	f->ny = malloc(f->n * sizeof(float));
 	f->nz = malloc(f->n * sizeof(float));
 	f->move = malloc(f->n * sizeof(float));
+	f->stop = malloc(f->n * sizeof(float));
+	f->depth = malloc(f->n * sizeof(float));
 	for (size_t i = 0; i < f->n; i++) {
 		double v[3], len;
 		do {
@@ -62,6 +69,9 @@ static int setup(void **state)
 		f->ny[i] = (float)(v[1] / len);
 		f->nz[i] = (float)(v[2] / len);
 		f->move[i] = (float)dp_rng_uniform(&rng);
+		/* a third still moving, the rest stopped at depths in [0, 3) */
+		f->stop[i] = dp_rng_uniform(&rng) < 1.0 / 3.0 ? INFINITY : (float)(STOP_DEPTH * dp_rng_uniform(&rng));
+		f->depth[i] = (float)(STOP_DEPTH * dp_rng_uniform(&rng));
 	}
 	dp_error err = {0};
 	if (dp_grid_build(&f->inner, f->n, f->qx, f->qy, f->qz, FRONT_RADIUS, &err) != DP_OK ||
@@ -80,6 +90,7 @@ static int setup(void **state)
 	f->sf_qy = gathered(&f->surface, f->qy);
 	f->sf_qz = gathered(&f->surface, f->qz);
 	f->sf_move = gathered(&f->surface, f->move);
+	f->sf_stop = gathered(&f->surface, f->stop);
 	*state = f;
 	return 0;
 }
@@ -87,9 +98,9 @@ static int setup(void **state)
 static int teardown(void **state)
 {
 	fixture *f = *state;
-	float *arrays[] = {f->px, f->py, f->pz, f->nx, f->ny, f->nz, f->qx, f->qy, f->qz, f->move,
+	float *arrays[] = {f->px, f->py, f->pz, f->nx, f->ny, f->nz, f->qx, f->qy, f->qz, f->move, f->stop, f->depth,
 			   f->iq_px, f->iq_py, f->iq_pz, f->iq_nx, f->iq_ny, f->iq_nz, f->sf_nx, f->sf_ny,
-			   f->sf_nz, f->sf_qx, f->sf_qy, f->sf_qz, f->sf_move};
+			   f->sf_nz, f->sf_qx, f->sf_qy, f->sf_qz, f->sf_move, f->sf_stop};
 	for (size_t k = 0; k < sizeof arrays / sizeof arrays[0]; k++)
 		free(arrays[k]);
 	dp_grid_free(&f->inner);
@@ -159,8 +170,8 @@ static void test_step(void **state)
 	fixture *f = *state;
 	float *ref = malloc(f->n * sizeof *ref), *cl = malloc(f->n * sizeof *cl), *brute = malloc(f->n * sizeof *brute);
 	dp_sink_step_args a = {
-		.surface = &f->surface, .move = f->sf_move, .nq = f->n, .px = f->px, .py = f->py, .pz = f->pz,
-		.radius = STATIC_RADIUS, .mean = ref,
+		.surface = &f->surface, .move = f->sf_move, .stop = f->sf_stop, .nq = f->n, .px = f->px, .py = f->py,
+		.pz = f->pz, .depth = f->depth, .radius = STATIC_RADIUS, .margin = STOP_MARGIN, .mean = ref,
 	};
 	dp_error err = {0};
 	assert_int_equal(dp_op_sink_step(tk_ref_context(), &a, &err), DP_OK);
@@ -169,25 +180,35 @@ static void test_step(void **state)
 		fail_msg("%s", err.message);
 	tk_assert_close(cl, ref, f->n, 1e-4f, 1e-6f, "sink_step");
 
+	size_t dropped = 0, empty = 0;
 	for (size_t i = 0; i < f->n; i++) {
 		double sum = 0.0;
 		int count = 0;
-		for (size_t k = 0; k < f->n; k++)
-			if (dist2(f->px, f->py, f->pz, i, k) < STATIC_RADIUS * STATIC_RADIUS) {
-				sum += f->move[k];
-				count++;
+		for (size_t k = 0; k < f->n; k++) {
+			if (!(dist2(f->px, f->py, f->pz, i, k) < STATIC_RADIUS * STATIC_RADIUS))
+				continue;
+			if (f->stop[k] < f->depth[i] - STOP_MARGIN) {
+				dropped++;
+				continue;
 			}
-		assert_true(count >= 1); /* p_i is in its own neighbourhood */
-		brute[i] = (float)(sum / count);
+			sum += f->move[k];
+			count++;
+		}
+		empty += count == 0;
+		brute[i] = count ? (float)(sum / count) : 0.0f;
 	}
+	/* Neighbours that stopped too shallow were left out, and some queries
+	 * kept none. */
+	assert_true(dropped > 0 && empty > 0);
 	tk_assert_close(ref, brute, f->n, 1e-4f, 1e-6f, "sink_step vs brute force");
 
 	/* Queries away from every surface point get 0. */
-	float far_x = 10.0f * EXTENT, far_y = 0.0f, far_z = 0.0f, out = -1.0f;
+	float far_x = 10.0f * EXTENT, far_y = 0.0f, far_z = 0.0f, far_depth = 0.0f, out = -1.0f;
 	a.nq = 1;
 	a.px = &far_x;
 	a.py = &far_y;
 	a.pz = &far_z;
+	a.depth = &far_depth;
 	a.mean = &out;
 	assert_int_equal(dp_op_sink_step(tk_cl_context(), &a, &err), DP_OK);
 	assert_true(out == 0.0f);

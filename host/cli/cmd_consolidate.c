@@ -150,6 +150,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--meet-shift", CLI_DOUBLE, &p->sink.meet_shift_r,
 		 "a point settled on a front moves at most this far, in r, to where its partners place the medial axis (0 = off)",
 		 NULL, NULL},
+		{"--slow-margin", CLI_DOUBLE, &p->sink.slow_margin_r,
+		 "a settled neighbour slows a sinking point only if it stopped deeper than the point minus this, in r "
+		 "(1e9: every settled neighbour, as in the paper)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},
 		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},

@@ -390,7 +390,14 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     static neighbourhood P_i (surface points within sigma_p × r, i included)
  *     of the distance each inner point moved in the previous iteration (settled
  *     ones count 0); t_i < slow_fraction × the first step settles q_i
- *     (slow-down: how points that never meet an opposing front stop);
+ *     (slow-down: how points that never meet an opposing front stop). A
+ *     settled neighbour counts only if it stopped no shallower than q_i's
+ *     depth minus slow_margin_r (not in the paper): where a thin part's
+ *     fronts meet early, its settled points otherwise slowed the thick part
+ *     next to it, whose slowed points slowed theirs, until the whole scanned
+ *     side stopped just below the surface (measured on the one-view bunny:
+ *     3212 of 4000 points settled by slow-down within 31 iterations, the
+ *     ears' first; with the margin, Poisson error 0.026 -> 0.019);
  *  3. q_i ← q_i - t_i n_i;
  *  4. cross-bilateral smoothing (Eq. 3): q_i ← Σ θφ q_i' / Σ θφ over P_i, with
  *     the sunk positions of settled and unsettled neighbours,
@@ -416,6 +423,8 @@ typedef struct dp_sink_params {
 	int max_iters;           /* iteration cap, >= 1; default 200 */
 	double medial_margin_r;  /* medial test margin, in r; 0 = off; default 1 (see 1b above) */
 	double meet_shift_r;     /* largest move to the meeting point, in r; 0 = off; default 2 (see 1a above) */
+	double slow_margin_r;    /* settled neighbours slow q_i only if they stopped deeper than its depth minus
+	                            this, in r; >= 0, inf = the paper's rule; default 1.5 (see 2 above) */
 } dp_sink_params;
 
 DP_API void dp_sink_params_default(dp_sink_params *p);

@@ -103,13 +103,15 @@
 
 /* The adaptive step: the grid holds the surface points p_i' and `move` the
  * distance their inner points moved in the previous iteration (0 for settled
- * ones). For query i (a surface point p_i):
+ * ones), `stop` the depth a settled point stopped at (+inf while it moves).
+ * For query i (a surface point p_i whose inner point is at `depth`):
  *   mean[i] = mean of move[i'] over i' with |p_i - p_i'| < radius (P_i, p_i
- *             itself included), or 0 when that set is empty. */
+ *             itself included) and stop[i'] >= depth[i] - margin, or 0 when
+ *             that set is empty. */
 #define DP_OP_SINK_STEP(F)                                                                        \
-	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1)                            \
-	F(GRID, dp_grid, surface, 1) F(ATTR, float, move, 1) F(RADIUS, float, radius, 1)          \
-	F(OUT, float, mean, 1)
+	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1) F(QUERY, float, depth, 1)  \
+	F(GRID, dp_grid, surface, 1) F(ATTR, float, move, 1) F(ATTR, float, stop, 1)              \
+	F(RADIUS, float, radius, 1) F(PARAM, float, margin, 1) F(OUT, float, mean, 1)
 
 /* Cross-bilateral smoothing sums (Eq. 3). The grid holds the surface points
  * p_i'; nx..nz their normals and ix..iz their inner points q_i' (after this

@@ -39,7 +39,7 @@ void dp_ref_sink_step(const dp_sink_step_args *a)
 		for (int r = 0; r < 9; r++)
 			for (uint32_t k = beg[r]; k < end[r]; k++) {
 				float dx = a->px[i] - g->x[k], dy = a->py[i] - g->y[k], dz = a->pz[i] - g->z[k];
-				if (dx * dx + dy * dy + dz * dz < r2) {
+				if (dx * dx + dy * dy + dz * dz < r2 && a->stop[k] >= a->depth[i] - a->margin) {
 					sum += a->move[k];
 					count += 1.0f;
 				}

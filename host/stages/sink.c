@@ -25,6 +25,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->max_iters = 200;
 	p->medial_margin_r = 1.0;
 	p->meet_shift_r = 2.0;
+	p->slow_margin_r = 1.5;
 }
 
 static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
@@ -51,6 +52,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 	if (!(p->meet_shift_r >= 0.0 && isfinite(p->meet_shift_r) && isfinite((float)(p->meet_shift_r * r))))
 		return dp_fail(err, DP_ERR_ARG, "sink: meeting shift %g r is not a finite number >= 0 (0 turns it off)",
 			       p->meet_shift_r);
+	if (!(p->slow_margin_r >= 0.0))
+		return dp_fail(err, DP_ERR_ARG, "sink: slow-down margin %g r is not a number >= 0 (inf: the paper's rule)",
+			       p->slow_margin_r);
 	/* Lengths go to the device as floats. */
 	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))
 		return dp_fail(err, DP_ERR_ARG, "sink: radii of r = %g overflow a float", r);
@@ -80,7 +84,7 @@ static dp_status check_surface(const dp_cloud *s, dp_error *err)
 enum {
 	SUNK_X, SUNK_Y, SUNK_Z,     /* inner points after the step, caller order */
 	MOVE,                       /* step taken last iteration (settled: 0), caller order */
-	MOVE_S,
+	MOVE_S, STOP, STOP_S, C_DEPTH,
 	SURF_X_Q, SURF_Y_Q, SURF_Z_Q, NORM_X_Q, NORM_Y_Q, NORM_Z_Q,
 	NORM_X_S, NORM_Y_S, NORM_Z_S, SUNK_X_S, SUNK_Y_S, SUNK_Z_S,
 	C_QX, C_QY, C_QZ, C_PX, C_PY, C_PZ, C_NX, C_NY, C_NZ,
@@ -210,10 +214,17 @@ static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 	st->nlist = kept;
 }
 
+/* How far inner point i has sunk below its surface point. */
+static float depth_of(const sink_state *st, size_t i)
+{
+	float dx = st->q[0][i] - st->s->x[i], dy = st->q[1][i] - st->s->y[i], dz = st->q[2][i] - st->s->z[i];
+	return sqrtf(dx * dx + dy * dy + dz * dz);
+}
+
 /* Step lengths t of the unsettled points into C_STEP (compacted); points whose
  * step falls below `slow` settle and leave the list. */
 static dp_status steps(dp_context *ctx, sink_state *st, int first_iteration, float first, float slow,
-		       float radius, size_t *settled, dp_error *err)
+		       float radius, float margin, size_t *settled, dp_error *err)
 {
 	*settled = 0;
 	if (first_iteration) {
@@ -221,12 +232,20 @@ static dp_status steps(dp_context *ctx, sink_state *st, int first_iteration, flo
 			st->a[C_STEP][j] = first;
 		return DP_OK;
 	}
+	/* Where a settled neighbour stopped, and how deep each listed point is:
+	 * only neighbours that stopped no shallower than depth - margin slow a
+	 * point down (dpoints.h, sinking step 2). */
+	for (size_t i = 0; i < st->n; i++)
+		st->a[STOP][i] = st->settled[i] ? depth_of(st, i) : INFINITY;
+	for (size_t j = 0; j < st->nlist; j++)
+		st->a[C_DEPTH][j] = depth_of(st, st->list[j]);
 	dp_grid_gather(&st->surface, st->a[MOVE], st->a[MOVE_S]);
+	dp_grid_gather(&st->surface, st->a[STOP], st->a[STOP_S]);
 	compact_surface(st);
 	dp_sink_step_args sa = {
-		.surface = &st->surface, .move = st->a[MOVE_S], .nq = st->nlist,
-		.px = st->a[C_PX], .py = st->a[C_PY], .pz = st->a[C_PZ],
-		.radius = radius, .mean = st->a[C_OUT_X],
+		.surface = &st->surface, .move = st->a[MOVE_S], .stop = st->a[STOP_S], .nq = st->nlist,
+		.px = st->a[C_PX], .py = st->a[C_PY], .pz = st->a[C_PZ], .depth = st->a[C_DEPTH],
+		.radius = radius, .margin = margin, .mean = st->a[C_OUT_X],
 	};
 	dp_status rc = dp_op_sink_step(ctx, &sa, err);
 	if (rc != DP_OK)
@@ -316,6 +335,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		dp_grid_gather(&st->surface, nrm[c], st->a[NORM_X_S + c]);
 
 	float medial_margin = (float)(p->medial_margin_r * r), meet_shift = (float)(p->meet_shift_r * r);
+	float slow_margin = (float)(p->slow_margin_r * r);
 	if (medial_margin > 0.0f) {
 		/* squared distances must not overflow (the test compares them) */
 		rc = dp_check_span("sink", st->n, s->x, s->y, s->z, err);
@@ -334,7 +354,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, meet_shift, &by_front, err);
 		if (rc == DP_OK) {
 			settle_past_medial(st, medial_margin, &by_medial);
-			rc = steps(ctx, st, it == 1, first, slow, static_radius, &by_slow, err);
+			rc = steps(ctx, st, it == 1, first, slow, static_radius, slow_margin, &by_slow, err);
 		}
 		if (rc == DP_OK)
 			rc = sink_and_smooth(ctx, st, static_radius, inv_r2, phi_scale, err);

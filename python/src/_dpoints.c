@@ -42,7 +42,7 @@ static const param_field PARAMS[] = {
 	F(sink, front_factor, P_DOUBLE),  F(sink, omega_deg, P_DOUBLE),
 	F(sink, first_step_r, P_DOUBLE),  F(sink, slow_fraction, P_DOUBLE),
 	F(sink, max_iters, P_INT),        F(sink, medial_margin_r, P_DOUBLE),
-	F(sink, meet_shift_r, P_DOUBLE),
+	F(sink, meet_shift_r, P_DOUBLE),   F(sink, slow_margin_r, P_DOUBLE),
 	F(skeleton, sigma_q, P_DOUBLE),   F(skeleton, eps, P_DOUBLE),
 	F(skeleton, mu, P_DOUBLE),        F(skeleton, cutoff, P_DOUBLE),
 	F(skeleton, min_axis_weight, P_DOUBLE), F(skeleton, max_iters, P_INT),
