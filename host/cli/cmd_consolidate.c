@@ -151,7 +151,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "a point settled on a front moves at most this far, in r, to where its partners place the medial axis (0 = off)",
 		 NULL, NULL},
 		{"--slow-margin", CLI_DOUBLE, &p->sink.slow_margin_r,
-		 "a settled neighbour slows a sinking point only if it stopped deeper than the point minus this, in r "
+		 "a settled neighbour slows a sinking point only if it stopped no shallower than the point minus this, in r "
 		 "(1e9: every settled neighbour, as in the paper)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},

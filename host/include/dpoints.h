@@ -423,8 +423,9 @@ typedef struct dp_sink_params {
 	int max_iters;           /* iteration cap, >= 1; default 200 */
 	double medial_margin_r;  /* medial test margin, in r; 0 = off; default 1 (see 1b above) */
 	double meet_shift_r;     /* largest move to the meeting point, in r; 0 = off; default 2 (see 1a above) */
-	double slow_margin_r;    /* settled neighbours slow q_i only if they stopped deeper than its depth minus
-	                            this, in r; >= 0, inf = the paper's rule; default 1.5 (see 2 above) */
+	double slow_margin_r;    /* settled neighbours slow q_i only if they stopped no shallower than its depth
+	                            minus this, in r; >= 0, inf (or 1e9) = the paper's rule; default 1.5 (see 2
+	                            above); report.json writes a non-finite value as null */
 } dp_sink_params;
 
 DP_API void dp_sink_params_default(dp_sink_params *p);

@@ -5,6 +5,9 @@
 /* Partners whose normal is within 45° of the opposite one: their sinking
  * line and the point's are too close to parallel to cross where it matters. */
 #define OPPOSITE_COS -0.70710678
+/* Nearly parallel lines (a small ω lets such partners through) cross where
+ * the normals' noise puts them: they fix no depth. */
+#define MIN_LINE_WEIGHT 0.05
 
 float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], const float n[3])
 {
@@ -31,6 +34,8 @@ float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], c
 				 * p - t n with radius t that touches the partner's
 				 * tangent plane, where n'·(s - p) = t (1 - b). */
 				t = (a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2]) / (1.0 - (double)b);
+				/* both estimates agree on exact geometry, so the
+				 * weight may jump at the switch */
 				weight = 1.0;
 			} else {
 				/* Lines p - t n and s - u n' are closest where
@@ -38,6 +43,8 @@ float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], c
 				double d = n[0] * w[0] + n[1] * w[1] + n[2] * w[2];
 				double e = a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2];
 				weight = 1.0 - (double)b * b;
+				if (weight < MIN_LINE_WEIGHT)
+					continue;
 				t = (b * e - d) / weight;
 			}
 			num += weight * t;

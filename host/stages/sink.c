@@ -53,7 +53,7 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 		return dp_fail(err, DP_ERR_ARG, "sink: meeting shift %g r is not a finite number >= 0 (0 turns it off)",
 			       p->meet_shift_r);
 	if (!(p->slow_margin_r >= 0.0))
-		return dp_fail(err, DP_ERR_ARG, "sink: slow-down margin %g r is not a number >= 0 (inf: the paper's rule)",
+		return dp_fail(err, DP_ERR_ARG, "sink: slow-down margin %g r is not a number >= 0 (a huge value such as 1e9: the paper's rule)",
 			       p->slow_margin_r);
 	/* Lengths go to the device as floats. */
 	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))

@@ -268,7 +268,8 @@ static double settle(work *w, size_t n, double r, const dp_surface_params *p)
  * every query scanned every copy (measured: a one-view sphere at 32000 deep
  * points, 51 distinct positions, and re-attachment 16e9 of the stage's 28e9
  * pairs). Points in one cube of side SKELETON_MERGE_R r count as the first
- * of them, an existing skeleton point. */
+ * of them, an existing skeleton point, and each inner end starts there: one
+ * never re-attached ends up to 0.09 r from where the skeleton put it. */
 static dp_status skeleton_grid(work *w, const dp_cloud *k, size_t n, double r, float cell, dp_error *err)
 {
 	float *kx = w->a[A_KX], *ky = w->a[A_KY], *kz = w->a[A_KZ];
