@@ -17,22 +17,6 @@
 
 static const char *const formats[] = {"ply", "pcd", "off", "obj", "xyz"};
 
-static unsigned char *slurp(const char *path, size_t *size)
-{
-	FILE *f = fopen(path, "rb");
-	assert_non_null(f);
-	assert_int_equal(fseek(f, 0, SEEK_END), 0);
-	long n = ftell(f);
-	assert_true(n >= 0);
-	rewind(f);
-	unsigned char *data = malloc((size_t)n + 1);
-	assert_non_null(data);
-	assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
-	fclose(f);
-	*size = (size_t)n;
-	return data;
-}
-
 /* One gzip member of data[0, size) appended to out (out_size updated). */
 static void gzip_append(const unsigned char *data, size_t size, unsigned char **out, size_t *out_size)
 {
@@ -90,7 +74,7 @@ static void test_gzip_every_format(void **state)
 			if (dp_cloud_read(path, &plain, DP_READ_POINTS, &err) != DP_OK)
 				continue; /* the seeds that fail to read are covered by the fuzz replay */
 			size_t size, gz_size = 0, two_size = 0;
-			unsigned char *data = slurp(path, &size), *gz = NULL, *two = NULL;
+			unsigned char *data = tk_read_file(path, &size), *gz = NULL, *two = NULL;
 			if (size >= 2 && data[0] == 0x1f && data[1] == 0x8b) {
 				/* a compressed seed: one layer of gzip is what is read */
 				free(data);

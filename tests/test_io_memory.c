@@ -11,30 +11,6 @@
 
 static const char *const formats[] = {"ply", "pcd", "off", "obj", "xyz"};
 
-static unsigned char *slurp(const char *path, size_t *size)
-{
-	FILE *f = fopen(path, "rb");
-	assert_non_null(f);
-	assert_int_equal(fseek(f, 0, SEEK_END), 0);
-	long n = ftell(f);
-	assert_true(n >= 0);
-	rewind(f);
-	unsigned char *data = malloc((size_t)n + 1);
-	assert_non_null(data);
-	assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
-	fclose(f);
-	*size = (size_t)n;
-	return data;
-}
-
-static void write_file(const char *path, const unsigned char *data, size_t size)
-{
-	FILE *f = fopen(path, "wb");
-	assert_non_null(f);
-	assert_int_equal(fwrite(data, 1, size, f), size);
-	assert_int_equal(fclose(f), 0);
-}
-
 static void expect_same_floats(const float *a, const float *b, size_t n, const char *what, const char *path)
 {
 	if (!a != !b)
@@ -43,11 +19,11 @@ static void expect_same_floats(const float *a, const float *b, size_t n, const c
 		fail_msg("%s: %s differ between file and memory", path, what);
 }
 
-/* Reads `size` bytes as a file at `path` and from memory under the same name;
- * both must give the same outcome. Returns the status. */
-static dp_status compare(const char *path, const unsigned char *data, size_t size, int flags)
+/* Reads `size` bytes as the file dir/name and from memory under the same
+ * name; both must give the same outcome. Returns the status. */
+static dp_status compare(const char *dir, const char *name, const unsigned char *data, size_t size, int flags)
 {
-	write_file(path, data, size);
+	const char *path = tk_write_file(dir, name, data, size);
 	dp_cloud a, b;
 	dp_error ea = {0}, eb = {0};
 	dp_status sa = dp_cloud_read(path, &a, flags, &ea);
@@ -91,22 +67,22 @@ static void test_corpus_file_and_memory_agree(void **state)
 		while ((e = readdir(d))) {
 			if (e->d_name[0] == '.')
 				continue;
-			char seed[8192], copy[4096];
+			char seed[8192], copy[64];
 			snprintf(seed, sizeof seed, "%s/%s", dir, e->d_name);
-			snprintf(copy, sizeof copy, "%s/seed.%s", tmp, formats[f]);
+			snprintf(copy, sizeof copy, "seed.%s", formats[f]);
 			size_t size;
-			unsigned char *data = slurp(seed, &size);
+			unsigned char *data = tk_read_file(seed, &size);
 			for (int flags = DP_READ_POINTS; flags <= DP_READ_MESH; flags++) {
-				if (compare(copy, data, size, flags) != DP_OK)
+				if (compare(tmp, copy, data, size, flags) != DP_OK)
 					fail_msg("seed %s is not a valid file", seed);
 				/* every truncation and a flipped byte at every offset: the
 				 * error paths must agree as well (as a mesh only: that reads
 				 * all a points read does, and halves the time under ASan) */
 				for (size_t cut = 0; flags == DP_READ_MESH && cut < size; cut++) {
-					compare(copy, data, cut, flags);
+					compare(tmp, copy, data, cut, flags);
 					unsigned char keep = data[cut];
 					data[cut] ^= (unsigned char)(cut * 37 + 1);
-					compare(copy, data, size, flags);
+					compare(tmp, copy, data, size, flags);
 					data[cut] = keep;
 					damaged += 2;
 				}

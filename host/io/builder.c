@@ -24,24 +24,26 @@ void dp_io_builder_free(dp_io_builder *b)
 	b->path = path;
 }
 
-dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err)
+/* Turns on one per-point array (*flag) before any point is added, and
+ * allocates it at the current capacity. */
+static dp_status want(dp_io_builder *b, int *flag, const char *what, dp_error *err)
 {
 	if (b->c.n > 0)
-		return dp_fail(err, DP_ERR_INTERNAL, "io builder: normals requested after points were added");
-	b->normals = 1;
+		return dp_fail(err, DP_ERR_INTERNAL, "io builder: %s requested after points were added", what);
+	*flag = 1;
 	size_t cap = b->cap;
 	b->cap = 0;
 	return dp_io_builder_reserve(b, cap, err);
 }
 
+dp_status dp_io_builder_want_normals(dp_io_builder *b, dp_error *err)
+{
+	return want(b, &b->normals, "normals", err);
+}
+
 dp_status dp_io_builder_want_colours(dp_io_builder *b, dp_error *err)
 {
-	if (b->c.n > 0)
-		return dp_fail(err, DP_ERR_INTERNAL, "io builder: colours requested after points were added");
-	b->colours = 1;
-	size_t cap = b->cap;
-	b->cap = 0;
-	return dp_io_builder_reserve(b, cap, err);
+	return want(b, &b->colours, "colours", err);
 }
 
 void dp_io_builder_set_rgb(dp_io_builder *b, size_t index, const unsigned char rgb[3])
@@ -52,12 +54,7 @@ void dp_io_builder_set_rgb(dp_io_builder *b, size_t index, const unsigned char r
 
 dp_status dp_io_builder_want_intensity(dp_io_builder *b, dp_error *err)
 {
-	if (b->c.n > 0)
-		return dp_fail(err, DP_ERR_INTERNAL, "io builder: intensities requested after points were added");
-	b->intensities = 1;
-	size_t cap = b->cap;
-	b->cap = 0;
-	return dp_io_builder_reserve(b, cap, err);
+	return want(b, &b->intensities, "intensities", err);
 }
 
 void dp_io_builder_set_intensity(dp_io_builder *b, size_t index, float value)

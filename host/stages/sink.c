@@ -183,6 +183,13 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
 	return DP_OK;
 }
 
+/* How far inner point i has sunk below its surface point. */
+static float depth_of(const sink_state *st, size_t i)
+{
+	float dx = st->q[0][i] - st->s->x[i], dy = st->q[1][i] - st->s->y[i], dz = st->q[2][i] - st->s->z[i];
+	return sqrtf(dx * dx + dy * dy + dz * dz);
+}
+
 /* The medial test: an inner point nearer to some surface point than to its
  * own by more than `margin` has passed the medial axis (the centre of its
  * inscribed ball), so it settles. Opposing fronts cannot stop points whose
@@ -199,12 +206,11 @@ static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
-		float qx = st->q[0][i], qy = st->q[1][i], qz = st->q[2][i];
-		float dx = qx - st->s->x[i], dy = qy - st->s->y[i], dz = qz - st->s->z[i];
-		float d = sqrtf(dx * dx + dy * dy + dz * dz);
+		float d = depth_of(st, i);
 		/* only points deeper than the margin can be past the axis by more */
 		float limit = d - margin;
-		if (d > margin && dp_kdtree_any_within(&st->surface_tree, qx, qy, qz, limit * limit)) {
+		if (d > margin &&
+		    dp_kdtree_any_within(&st->surface_tree, st->q[0][i], st->q[1][i], st->q[2][i], limit * limit)) {
 			st->settled[i] = 1;
 			(*settled)++;
 		} else {
@@ -212,13 +218,6 @@ static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 		}
 	}
 	st->nlist = kept;
-}
-
-/* How far inner point i has sunk below its surface point. */
-static float depth_of(const sink_state *st, size_t i)
-{
-	float dx = st->q[0][i] - st->s->x[i], dy = st->q[1][i] - st->s->y[i], dz = st->q[2][i] - st->s->z[i];
-	return sqrtf(dx * dx + dy * dy + dz * dz);
 }
 
 /* Step lengths t of the unsettled points into C_STEP (compacted); points whose

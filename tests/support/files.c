@@ -4,6 +4,7 @@
 
 #include <dirent.h>
 #include <stdio.h>
+#include <stdlib.h>
 #include <string.h>
 #include <unistd.h>
 
@@ -24,6 +25,23 @@ const char *tk_write_file(const char *dir, const char *name, const void *data, s
 const char *tk_write_text(const char *dir, const char *name, const char *text)
 {
 	return tk_write_file(dir, name, text, strlen(text));
+}
+
+unsigned char *tk_read_file(const char *path, size_t *size)
+{
+	FILE *f = fopen(path, "rb");
+	if (!f)
+		fail_msg("cannot open %s", path);
+	assert_int_equal(fseek(f, 0, SEEK_END), 0);
+	long n = ftell(f);
+	assert_true(n >= 0);
+	rewind(f);
+	unsigned char *data = malloc((size_t)n + 1);
+	assert_non_null(data);
+	assert_int_equal(fread(data, 1, (size_t)n, f), (size_t)n);
+	fclose(f);
+	*size = (size_t)n;
+	return data;
 }
 
 size_t tk_count_files(const char *dir, const char *containing)

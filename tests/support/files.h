@@ -9,6 +9,9 @@
 const char *tk_write_file(const char *dir, const char *name, const void *data, size_t len);
 /* Same for a NUL-terminated text. */
 const char *tk_write_text(const char *dir, const char *name, const char *text);
+/* The whole file at `path` (failing the test on error), malloc'd with one
+ * spare byte; the caller frees it. */
+unsigned char *tk_read_file(const char *path, size_t *size);
 /* Number of entries in dir (besides . and ..) whose name contains
  * `containing`, or all of them when it is NULL. */
 size_t tk_count_files(const char *dir, const char *containing);
