@@ -454,6 +454,53 @@ static void test_priors(void **state)
 		assert_true(o[prior].supported_error < 0.02);
 }
 
+/* A stray deep point 3 r past the rim of a half sphere, in the hole the
+ * completion fills. Without a slide reach the repulsion, a normalised mean,
+ * pushes it by its far neighbours' whole offset; with a 2 r reach it stays
+ * until the front reaches it. Returns how far it moved along the sphere in r
+ * within STRAY_ITERS iterations. */
+#define STRAY_ITERS 8
+#define STRAY_GAP_R 3.0
+
+static double stray_moves(double reach_r)
+{
+	scene sc;
+	make_scene(&sc, 0, 1, 3000, 800, 0.0, 0.0, 0.0, 11);
+	size_t last = sc.samples.n - 1;
+	double phi = STRAY_GAP_R * sc.r / SPHERE_R, start[3] = {cos(phi), 0.0, -sin(phi)};
+	sc.samples.x[last] = (float)(SPHERE_R * start[0]);
+	sc.samples.y[last] = (float)(SPHERE_R * start[1]);
+	sc.samples.z[last] = (float)(SPHERE_R * start[2]);
+	sc.samples.nx[last] = (float)start[0];
+	sc.samples.ny[last] = (float)start[1];
+	sc.samples.nz[last] = (float)start[2];
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	p.max_iters = STRAY_ITERS;
+	p.slide_reach_r = reach_r;
+	dp_cloud out = {0};
+	dp_surface_stats st;
+	run_stage(tk_cl_context(), &sc, &p, &out, NULL, &st);
+	double end[3] = {out.x[last], out.y[last], out.z[last]}, len = 0.0, cosang = 0.0;
+	for (int a = 0; a < 3; a++)
+		len += end[a] * end[a];
+	for (int a = 0; a < 3; a++)
+		cosang += start[a] * end[a] / sqrt(len);
+	double moved = SPHERE_R * acos(fmin(cosang, 1.0)) / sc.r;
+	printf("stray point %.1f r past the rim, slide reach %.1f r: moved %.2f r along the sphere in %d iterations\n",
+	       STRAY_GAP_R, reach_r, moved, st.iterations);
+	dp_cloud_free(&out);
+	free_scene(&sc);
+	return moved;
+}
+
+static void test_slide_reach(void **state)
+{
+	(void)state;
+	assert_true(stray_moves(0.0) > 1.0);
+	assert_true(stray_moves(2.0) < 0.25);
+}
+
 /* Bad arguments fail with one message, without touching the output. */
 static void test_errors(void **state)
 {
@@ -473,6 +520,14 @@ static void test_errors(void **state)
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	sc.skeleton.n++;
+	dp_surface_params bad;
+	dp_surface_params_default(&bad);
+	bad.slide_reach_r = -1.0;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	bad.slide_reach_r = NAN;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
 	sc.samples.x[3] = NAN;
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
@@ -485,7 +540,8 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_sphere_complete),  cmocka_unit_test(test_sphere_one_sided),
 		cmocka_unit_test(test_torus_one_sided),  cmocka_unit_test(test_backends_agree),
-		cmocka_unit_test(test_priors),           cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_priors),           cmocka_unit_test(test_slide_reach),
+		cmocka_unit_test(test_errors),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);
 	tk_teardown_contexts(NULL);

@@ -185,6 +185,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "required relative growth of the mean spacing, or fall of its variation", NULL, NULL},
 		{"--tangent-floor", CLI_DOUBLE, &p->surface.tangent_floor_r,
 		 "smallest tangential distance in the repulsion weight, in r", NULL, NULL},
+		{"--slide-reach", CLI_DOUBLE, &p->surface.slide_reach_r,
+		 "a surface point slides tangentially only while its nearest neighbour is within this, in r (0 = always): "
+		 "fewer stray points, less completion", NULL, NULL},
 		{"--no-same-side", CLI_FLAG, &any_side,
 		 "surface sums over whole balls (the paper) instead of the point's own side", NULL, NULL},
 		{"--no-dpoint-orient", CLI_FLAG, &old_orient,

@@ -573,6 +573,12 @@ typedef struct dp_surface_params {
 	dp_surface_prior prior;   /* default DP_SURFACE_PRIOR_VOLUME */
 	int data_along_normal;    /* 1: data term n nᵀ(c̄ - p) (step 4 above); 0: c̄ - p as Eq. 6 is printed; default 1 */
 	double tangent_floor_r;   /* smallest tangential distance in β̂, r (> 0); default 0.01 */
+	double slide_reach_r;     /* a point slides tangentially only while its nearest same-sided neighbour is
+	                             within this, r (>= 0; 0: always, the paper). R_i is a normalised mean, so a
+	                             point whose neighbours are all far is still pushed by their whole offset and
+	                             runs off until none is within σp r: the loose halo of completed regions.
+	                             Stopping such points trades completion for accuracy (surface.c has the
+	                             numbers); default 0 */
 	double normal_radius_r;   /* PCA neighbourhood of ñ, r; default 3 */
 	int reattach;             /* re-attach inner ends; default 1 */
 	double reattach_radius_r; /* re-attachment search radius around q_i, r; default 2 */

@@ -82,6 +82,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_num(w, "mu_hat", p->mu_hat);
 	dp_json_str(w, "prior", p->prior == DP_SURFACE_PRIOR_MINIMAL ? "minimal" : "volume");
 	dp_json_num(w, "tangent_floor_r", p->tangent_floor_r);
+	dp_json_num(w, "slide_reach_r", p->slide_reach_r);
 	dp_json_str(w, "data_term", p->data_along_normal ? "normal" : "full");
 	dp_json_num(w, "normal_radius_r", p->normal_radius_r);
 	dp_json_bool(w, "reattach", p->reattach);

@@ -51,6 +51,7 @@ static const param_field PARAMS[] = {
 	F(surface, sigma_p, P_DOUBLE),    F(surface, mu_hat, P_DOUBLE),
 	F(surface, prior, P_INT),         F(surface, data_along_normal, P_INT),
 	F(surface, tangent_floor_r, P_DOUBLE), F(surface, normal_radius_r, P_DOUBLE),
+	F(surface, slide_reach_r, P_DOUBLE),
 	F(surface, reattach, P_INT),      F(surface, reattach_radius_r, P_DOUBLE),
 	F(surface, max_iters, P_INT),     F(surface, same_side, P_INT),
 	F(surface, orient_by_dpoint, P_INT), F(surface, window, P_INT),
