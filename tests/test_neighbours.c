@@ -90,16 +90,23 @@ static void test_counts_within_radius(void **state)
 	dp_grid_free(&g);
 }
 
+/* The axis-aligned ellipsoid of every query: metric rows e_a / semi_a and
+ * the reach just past its semi-axes times RADIUS. */
+static void ellipsoid(size_t m, float *metric, float *reach)
+{
+	for (size_t i = 0; i < m; i++)
+		for (int a = 0; a < 3; a++) {
+			metric[9 * i + 4 * a] = 1.0f / semi[a];
+			reach[3 * i + a] = semi[a] * RADIUS * 1.001f;
+		}
+}
+
 /* An axis-aligned ellipsoid: metric rows e_a / semi_a, cutoff RADIUS. */
 static void test_counts_inside_ellipsoid(void **state)
 {
 	fixture *f = *state;
 	float *metric = calloc(9 * f->m, sizeof(float)), *reach = calloc(3 * f->m, sizeof(float));
-	for (size_t i = 0; i < f->m; i++)
-		for (int a = 0; a < 3; a++) {
-			metric[9 * i + 4 * a] = 1.0f / semi[a];
-			reach[3 * i + a] = semi[a] * RADIUS * 1.001f;
-		}
+	ellipsoid(f->m, metric, reach);
 	dp_grid g = {0};
 	dp_error err = {0};
 	assert_int_equal(dp_grid_build_margin(&g, f->n, f->x, f->y, f->z, RADIUS, 3, &err), DP_OK);
@@ -130,11 +137,7 @@ static void test_dispatcher_counts_by_row(void **state)
 	float *metric = calloc(9 * m, sizeof(float)), *reach = calloc(3 * m, sizeof(float));
 	float *out = calloc(3 * m, sizeof(float)), *sum = calloc(m, sizeof(float));
 	assert_true(metric && reach && out && sum);
-	for (size_t i = 0; i < m; i++)
-		for (int a = 0; a < 3; a++) {
-			metric[9 * i + 4 * a] = 1.0f / semi[a];
-			reach[3 * i + a] = semi[a] * RADIUS * 1.001f;
-		}
+	ellipsoid(m, metric, reach);
 	dp_grid g = {0};
 	dp_error err = {0};
 	assert_int_equal(dp_grid_build_margin(&g, f->n, f->x, f->y, f->z, RADIUS, 3, &err), DP_OK);
