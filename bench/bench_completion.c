@@ -4,7 +4,7 @@
  * backend only: this measures quality, bench_stages compares the backends.
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
- *                    [--coarse N]
+ *                    [--coarse N] [--surface-iters N]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -15,10 +15,15 @@
  *   chair    the demo's chair (two views, 256 x 256 rays, noise 0.003);
  *   rods     the built-in thin parts (rods under 3 r thick) from two sides;
  *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps.
+ * --surface-iters caps the coarse level's surface iterations instead of the
+ * default: completion spreads with the iterations and so does the error of
+ * what it completes, and a sweep of this shows the trade (README "Results
+ * measured here").
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
 #include "dpoints_tools.h"
 
+#include <limits.h>
 #include <math.h>
 #include <stdio.h>
 #include <stdlib.h>
@@ -39,6 +44,7 @@ typedef struct options {
 	const char *data;
 	const char *device;
 	size_t coarse;    /* --coarse: the coarse level's count instead of the default */
+	int surface_iters; /* --surface-iters: the surface stage's cap, or -1 for the default */
 	const char *save; /* folder for each case's input, surface and skeleton PLYs, or NULL */
 	uint64_t seed;
 } options;
@@ -110,6 +116,8 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 		p.wlop.samples = samples;
 	if (opts->coarse)
 		p.refine.coarse_samples = opts->coarse;
+	if (opts->surface_iters >= 0)
+		p.surface.max_iters = opts->surface_iters;
 	dp_result res = {0};
 	dp_cloud guessed = {0};
 	dp_eval_result ei, es, eg;
@@ -266,6 +274,8 @@ static int run_statue(dp_context *ctx, const options *o)
 	}
 	dp_params p;
 	dp_params_default(&p);
+	if (opts->surface_iters >= 0)
+		p.surface.max_iters = opts->surface_iters;
 	dp_result res = {0};
 	int rc = -1;
 	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK) {
@@ -289,6 +299,7 @@ static int parse(int argc, char **argv, options *o)
 	o->device = NULL;
 	o->save = NULL;
 	o->coarse = 0;
+	o->surface_iters = -1;
 	o->seed = 7;
 	for (int i = 1; i + 1 < argc; i += 2) {
 		if (!strcmp(argv[i], "--case"))
@@ -301,7 +312,13 @@ static int parse(int argc, char **argv, options *o)
 			o->device = argv[i + 1];
 		else if (!strcmp(argv[i], "--coarse"))
 			o->coarse = strtoull(argv[i + 1], NULL, 10);
-		else if (!strcmp(argv[i], "--save"))
+		else if (!strcmp(argv[i], "--surface-iters")) {
+			char *end;
+			long v = strtol(argv[i + 1], &end, 10);
+			if (*end || v < 0 || v > INT_MAX)
+				return -1;
+			o->surface_iters = (int)v;
+		} else if (!strcmp(argv[i], "--save"))
 			o->save = argv[i + 1];
 		else if (!strcmp(argv[i], "--seed"))
 			o->seed = strtoull(argv[i + 1], NULL, 10);
@@ -328,7 +345,7 @@ int main(int argc, char **argv)
 	opts = &o;
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue] "
-				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N]\n");
+				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;
