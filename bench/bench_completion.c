@@ -12,7 +12,9 @@
  *            pair evaluations per level, so its growth with the count shows;
  *   bunny1, bunny2  the real Stanford bunny, bun000 alone and bun000 +
  *            bun180 in the ground-truth frame, at the default deep-point count;
- *   chair    the demo's chair (two views, 256 x 256 rays, noise 0.003);
+ *   chair    the demo's chair (two views, 256 x 256 rays, noise 0.003), and
+ *            its legs: whether each stays a tube in the surface and a curve
+ *            in the skeleton (legs below);
  *   rods     the built-in thin parts (rods under 3 r thick) from two sides;
  *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps.
  * --surface-iters caps the coarse level's surface iterations instead of the
@@ -22,6 +24,7 @@
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
 #include "dpoints_tools.h"
+#include "tools/shapes.h"
 
 #include <limits.h>
 #include <math.h>
@@ -105,6 +108,78 @@ static dp_status unsupported(const dp_result *res, dp_cloud *out, dp_error *err)
 	return st;
 }
 
+/* The chair's legs, between LEG_ZONE_LO and LEG_ZONE_HI of their length
+ * (clear of the floor cap and the seat): per leg, how far the surface points
+ * nearest it lie from its tube and the skeleton points from its axis (in r),
+ * and the fraction of LEG_BINS height bins with a skeleton point within a leg
+ * radius of the axis (a curve along the whole leg: 1); over all legs, the
+ * surface points farther than LEG_APART radii from every axis (a cloud
+ * joining the legs: 0). */
+#define LEG_ZONE_LO 0.15
+#define LEG_ZONE_HI 0.85
+#define LEG_BINS 10
+#define LEG_APART 2.0
+static int nearest_leg(const dp_chair_parts *c, float x, float y, double *dist)
+{
+	int best = 0;
+	for (int l = 0; l < 4; l++) {
+		double d = hypot(x - c->leg[l][0], y - c->leg[l][1]);
+		if (l == 0 || d < *dist) {
+			best = l;
+			*dist = d;
+		}
+	}
+	return best;
+}
+
+static void print_legs(const dp_result *res)
+{
+	dp_shape s;
+	dp_error err = {0};
+	if (dp_shape_default("chair", &s, &err) != DP_OK)
+		return;
+	dp_chair_parts c;
+	dp_chair_layout(&s, &c);
+	double lo = LEG_ZONE_LO * s.length, hi = LEG_ZONE_HI * s.length, r = res->r;
+	double tube[4] = {0}, axis[4] = {0};
+	size_t nsurf[4] = {0}, nskel[4] = {0}, apart = 0;
+	int bins[4][LEG_BINS] = {{0}};
+	for (size_t i = 0; i < res->surface.n; i++) {
+		double d;
+		if (res->surface.z[i] < lo || res->surface.z[i] > hi)
+			continue;
+		int l = nearest_leg(&c, res->surface.x[i], res->surface.y[i], &d);
+		if (d > LEG_APART * s.radius) {
+			apart++;
+			continue;
+		}
+		nsurf[l]++;
+		tube[l] += fabs(d - s.radius);
+	}
+	for (size_t i = 0; i < res->skeleton.n; i++) {
+		double d, z = res->skeleton.z[i];
+		if (z < lo || z > hi)
+			continue;
+		int l = nearest_leg(&c, res->skeleton.x[i], res->skeleton.y[i], &d);
+		if (d > LEG_APART * s.radius)
+			continue;
+		nskel[l]++;
+		axis[l] += d;
+		if (d <= s.radius)
+			bins[l][(int)fmin(LEG_BINS - 1, (z - lo) / (hi - lo) * LEG_BINS)] = 1;
+	}
+	printf(",\"legs\":[");
+	for (int l = 0; l < 4; l++) {
+		int span = 0;
+		for (int b = 0; b < LEG_BINS; b++)
+			span += bins[l][b];
+		printf("%s{\"surface\":%zu,\"tube_mean_r\":%.3f,\"skeleton\":%zu,\"axis_mean_r\":%.3f,\"skeleton_span\":%.2f}",
+		       l ? "," : "", nsurf[l], nsurf[l] ? tube[l] / nsurf[l] / r : 0.0, nskel[l],
+		       nskel[l] ? axis[l] / nskel[l] / r : 0.0, (double)span / LEG_BINS);
+	}
+	printf("],\"legs_apart\":%zu,\"leg_radius_r\":%.3f", apart, s.radius / r);
+}
+
 /* Consolidates `in`, evaluates input and surface against `mesh`, prints one
  * line. `samples` 0 keeps the library's default count. */
 static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp_cloud *in, size_t samples)
@@ -131,6 +206,8 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	print_eval("surface", &es);
 	if (guessed.n >= 2 && dp_eval(mesh, &guessed, NULL, &eg, &err) == DP_OK)
 		print_eval("surface_unsupported", &eg);
+	if (!strcmp(name, "chair"))
+		print_legs(&res);
 	if (opts->save) {
 		char path[4096];
 		const char *what[3] = {"input", "surface", "skeleton"};
