@@ -20,8 +20,9 @@ write("three.xyz", [(-1, -1, -1), (1, 0.5, -0.2), (0.3, 1, 1)])
 write("line.xyz", [(t / 50, 2 * t / 50, 3 * t / 50) for t in range(200)])
 grid = [(i % 20 + 0.1 * (i % 7), i // 20 + 0.1 * (i % 3)) for i in range(400)]
 write("plane.xyz", [(u, v, 0.5 * u - 0.25 * v) for u, v in grid])
-# not quite flat (0.3% of its extent thick): passes the volume test, but sinking
-# throws points far out, which the bound on every stage catches
+# not quite flat (0.3% of its extent thick): passes the volume test; without
+# the width bound sinking throws points far out, which the bound on every
+# stage catches
 write("nearly_flat.xyz", [(u, v, 0.5 * u - 0.25 * v + 0.03 * ((7 * i) % 3)) for i, (u, v) in enumerate(grid)])
 ' "$tmp"
 printf 'ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty float y\nproperty float z\nelement junk 18446744073709551615\nend_header\n1 2 3\n' >"$tmp/junk.ply"
@@ -40,6 +41,20 @@ for shape in three line plane; do
 	check "$shape" "span no volume" consolidate "$tmp/$shape.xyz" -o "$tmp/$shape" --samples 3 --quiet
 	if [ -e "$tmp/$shape" ]; then fail "$shape: left an output folder"; fi
 done
-check nearly_flat "far outside" consolidate "$tmp/nearly_flat.xyz" -o "$tmp/nearly_flat" --samples 100 --quiet
+check nearly_flat "far outside" consolidate "$tmp/nearly_flat.xyz" -o "$tmp/nearly_flat" --samples 100 \
+	--width-factor 0 --quiet
 if [ -e "$tmp/nearly_flat" ]; then fail "nearly_flat: left an output folder"; fi
+# With the width bound (the default) no point sinks deeper than the plate is
+# wide: the run succeeds, and the bound is what stopped the sinking.
+status=0
+timeout 60 "$dpoints" consolidate "$tmp/nearly_flat.xyz" -o "$tmp/bounded" --samples 100 --quiet \
+	>"$tmp/bounded.out" 2>"$tmp/bounded.err" || status=$?
+if [ "$status" -ne 0 ]; then
+	fail "nearly_flat with the width bound: exit status $status: $(head -c 300 "$tmp/bounded.err")"
+elif ! py 'import json, sys; sys.exit(json.load(open(sys.argv[1]))["results"]["sink"]["settled_width"] == 0)' \
+	"$tmp/bounded/report.json"; then
+	fail "nearly_flat with the width bound: report.json says no point settled by it"
+else
+	echo "ok   nearly_flat with the width bound: consolidated"
+fi
 finish

@@ -622,6 +622,59 @@ static void test_cap_reported(void **state)
 	dp_cloud_free(&h);
 }
 
+/* A flat strip scanned from one side, its normals all up: no front opposes
+ * it, no ball under it ever holds a surface point and no neighbour settles to
+ * slow it, so without the width bound every point sinks until the cap. With
+ * it, none goes deeper than a few half-widths. */
+#define STRIP_HALF_WIDTH 3
+#define STRIP_LENGTH 120
+static double strip_depth(double width_factor, dp_sink_stats *st)
+{
+	dp_rng rng;
+	dp_rng_seed(&rng, 11);
+	dp_cloud c;
+	dp_error err = {0};
+	size_t n = (size_t)STRIP_LENGTH * (2 * STRIP_HALF_WIDTH + 1);
+	assert_int_equal(dp_cloud_alloc(&c, n, 1, &err), DP_OK);
+	for (size_t i = 0; i < n; i++) {
+		/* in a scrambled order, as WLOP leaves its samples */
+		size_t k = (i * 7919) % n;
+		c.x[k] = (float)(i / (2 * STRIP_HALF_WIDTH + 1)) + (float)(NOISE * dp_rng_normal(&rng));
+		c.y[k] = (float)(i % (2 * STRIP_HALF_WIDTH + 1)) + (float)(NOISE * dp_rng_normal(&rng));
+		c.z[k] = (float)(NOISE * dp_rng_normal(&rng));
+		c.nx[k] = 0.0f;
+		c.ny[k] = 0.0f;
+		c.nz[k] = 1.0f;
+	}
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	p.width_factor = width_factor;
+	dp_cloud h;
+	run_sink_with(tk_cl_context(), &c, 1.0, &p, &h, st);
+	double deepest = 0.0;
+	for (size_t i = 0; i < n; i++)
+		deepest = fmax(deepest, c.z[i] - h.z[i]);
+	printf("  strip of half-width %d r, width factor %g: deepest anchor %.1f r, %zu settled by the width bound\n",
+	       STRIP_HALF_WIDTH, width_factor, deepest, st->settled_width);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+	return deepest;
+}
+
+static void test_width_bound(void **state)
+{
+	(void)state;
+	dp_sink_stats bounded, free_fall;
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	double with = strip_depth(p.width_factor, &bounded), without = strip_depth(0.0, &free_fall);
+	assert_true(with <= 6.0 * STRIP_HALF_WIDTH);
+	assert_int_equal(bounded.unsettled, 0);
+	assert_true(bounded.settled_width > 0);
+	assert_int_equal(free_fall.settled_width, 0);
+	assert_true(without > 3.0 * with);
+}
+
 static void expect_error(const dp_cloud *c, double r, const dp_sink_params *p, dp_status want, const char *what)
 {
 	dp_cloud h = {.n = 99};
@@ -663,6 +716,14 @@ static void test_bad_input(void **state)
 	expect_error(&c, r, &p, DP_ERR_ARG, "negative slow-down margin");
 	p.slow_margin_r = NAN;
 	expect_error(&c, r, &p, DP_ERR_ARG, "NaN slow-down margin");
+	dp_sink_params_default(&p);
+	p.width_factor = -1.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "negative width factor");
+	p.width_factor = INFINITY;
+	expect_error(&c, r, &p, DP_ERR_ARG, "infinite width factor");
+	p.width_factor = NAN;
+	expect_error(&c, r, &p, DP_ERR_ARG, "NaN width factor");
+	dp_sink_params_default(&p);
 	/* inf (the library's form of the paper's rule) is the same as a huge
 	 * margin, on the device too */
 	dp_cloud paper_rule, huge;
@@ -710,6 +771,7 @@ int main(void)
 		cmocka_unit_test(test_shallow_cap),
 		cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_cap_reported),
+		cmocka_unit_test(test_width_bound),
 		cmocka_unit_test(test_bad_input),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);

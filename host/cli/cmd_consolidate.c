@@ -153,6 +153,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--slow-margin", CLI_DOUBLE, &p->sink.slow_margin_r,
 		 "a settled neighbour slows a sinking point only if it stopped no shallower than the point minus this, in r "
 		 "(1e9: every settled neighbour, as in the paper)", NULL, NULL},
+		{"--width-factor", CLI_DOUBLE, &p->sink.width_factor,
+		 "a sinking point stops once as deep as half the scale at which the samples around its surface point "
+		 "spread less than that scale / (2 * this): thin parts stay thin (0 = off)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},
 		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},

@@ -386,6 +386,17 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     scanned no opposing front exists and nothing else stops the sinking
  *     (measured before this test: one-sided scans of a lamppost and an
  *     airplane ended with every point unsettled and deep points ~100 r long);
+ *  1c. width bound (not in the paper): q_i settles once its depth |q_i - p_i|
+ *     reaches half the smallest scale rho (4, 8, ... 64 r) at which the
+ *     samples within rho of p_i spread (the square root of the middle
+ *     eigenvalue of their second moments about p_i) less than
+ *     rho / (2 width_factor): an inscribed ball is no wider than its part.
+ *     A surface patch spreads rho/2 at every scale, a pole or a leg of
+ *     half-width a about a. Where a part is thinner than σp its normals are
+ *     often oriented across it, or its far side was never scanned, and
+ *     nothing else stops the sinking (measured on pcl/lamppost.pcd: anchors a
+ *     median 44 r deep in the air beside a pole 5-7 r thick, 4.5 r with the
+ *     bound; host/stages/width.h);
  *  2. step t_i: first_step_r × r in the first iteration, then the mean over the
  *     static neighbourhood P_i (surface points within sigma_p × r, i included)
  *     of the distance each inner point moved in the previous iteration (settled
@@ -426,6 +437,8 @@ typedef struct dp_sink_params {
 	double slow_margin_r;    /* settled neighbours slow q_i only if they stopped no shallower than its depth
 	                            minus this, in r; >= 0, inf (or 1e9) = the paper's rule; default 1.5 (see 2
 	                            above); report.json writes a non-finite value as null */
+	double width_factor;     /* width bound, >= 0; 0 = off; default 2 (see 1c above; below 1.8 it can stop a
+	                            one-sided scan of a ball short of its centre) */
 } dp_sink_params;
 
 DP_API void dp_sink_params_default(dp_sink_params *p);
@@ -434,6 +447,7 @@ typedef struct dp_sink_stats {
 	int iterations;          /* iterations run */
 	size_t settled_front;    /* settled by the front test */
 	size_t settled_medial;   /* settled by the medial test */
+	size_t settled_width;    /* settled by the width bound */
 	size_t settled_slow;     /* settled by slow-down */
 	size_t unsettled;        /* still moving when max_iters stopped the loop */
 	double seconds;

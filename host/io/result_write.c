@@ -57,6 +57,7 @@ static void json_sink_params(dp_json_writer *w, const dp_sink_params *p)
 	dp_json_num(w, "medial_margin_r", p->medial_margin_r);
 	dp_json_num(w, "meet_shift_r", p->meet_shift_r);
 	dp_json_num(w, "slow_margin_r", p->slow_margin_r);
+	dp_json_num(w, "width_factor", p->width_factor);
 	dp_json_end_object(w);
 }
 
@@ -152,6 +153,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "iterations", r->sink_stats.iterations);
 	dp_json_int(w, "settled_front", (long long)r->sink_stats.settled_front);
 	dp_json_int(w, "settled_medial", (long long)r->sink_stats.settled_medial);
+	dp_json_int(w, "settled_width", (long long)r->sink_stats.settled_width);
 	dp_json_int(w, "settled_slow", (long long)r->sink_stats.settled_slow);
 	dp_json_int(w, "unsettled", (long long)r->sink_stats.unsettled);
 	dp_json_num(w, "seconds", r->sink_stats.seconds);

@@ -5,6 +5,7 @@
  * neighbour sums are the operators of host/ops/operators.h. */
 #include "backend/ops.h"
 #include "stages/meet.h"
+#include "stages/width.h"
 #include "core/common.h"
 #include "knn/kdtree.h"
 #include "knn/knn.h"
@@ -26,6 +27,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->medial_margin_r = 1.0;
 	p->meet_shift_r = 2.0;
 	p->slow_margin_r = 1.5;
+	p->width_factor = 2.0;
 }
 
 static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
@@ -55,6 +57,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 	if (!(p->slow_margin_r >= 0.0))
 		return dp_fail(err, DP_ERR_ARG, "sink: slow-down margin %g r is not a number >= 0 (a huge value such as 1e9: the paper's rule)",
 			       p->slow_margin_r);
+	if (!(p->width_factor >= 0.0 && isfinite(p->width_factor)))
+		return dp_fail(err, DP_ERR_ARG, "sink: width factor %g is not a finite number >= 0 (0 turns the bound off)",
+			       p->width_factor);
 	/* Lengths go to the device as floats. */
 	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))
 		return dp_fail(err, DP_ERR_ARG, "sink: radii of r = %g overflow a float", r);
@@ -103,6 +108,7 @@ typedef struct sink_state {
 	size_t nlist;
 	dp_grid inner, surface;
 	dp_kdtree surface_tree; /* the surface points, for the medial test */
+	float *too_deep;        /* the width bound of each point (width.h), or NULL when off */
 } sink_state;
 
 static void collect_unsettled(sink_state *st)
@@ -211,6 +217,26 @@ static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 		float limit = d - margin;
 		if (d > margin &&
 		    dp_kdtree_any_within(&st->surface_tree, st->q[0][i], st->q[1][i], st->q[2][i], limit * limit)) {
+			st->settled[i] = 1;
+			(*settled)++;
+		} else {
+			st->list[kept++] = i;
+		}
+	}
+	st->nlist = kept;
+}
+
+/* The width bound (width.h): an inner point as deep as its surface point's
+ * part is wide has left the part, or is about to. */
+static void settle_by_width(sink_state *st, size_t *settled)
+{
+	*settled = 0;
+	if (!st->too_deep)
+		return;
+	size_t kept = 0;
+	for (size_t j = 0; j < st->nlist; j++) {
+		uint32_t i = st->list[j];
+		if (depth_of(st, i) >= st->too_deep[i]) {
 			st->settled[i] = 1;
 			(*settled)++;
 		} else {
@@ -344,15 +370,19 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			return rc;
 	}
 
+	if (st->too_deep && (rc = dp_width_bound(st->n, s->x, s->y, s->z, r, p->width_factor, st->too_deep, err)) != DP_OK)
+		return rc;
+
 	size_t settled_total = 0;
 	for (int it = 1; it <= p->max_iters; it++) {
 		collect_unsettled(st);
 		if (st->nlist == 0)
 			break;
-		size_t by_front, by_medial = 0, by_slow;
+		size_t by_front, by_medial = 0, by_width = 0, by_slow;
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, meet_shift, &by_front, err);
 		if (rc == DP_OK) {
 			settle_past_medial(st, medial_margin, &by_medial);
+			settle_by_width(st, &by_width);
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, slow_margin, &by_slow, err);
 		}
 		if (rc == DP_OK)
@@ -362,8 +392,9 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		stats->iterations = it;
 		stats->settled_front += by_front;
 		stats->settled_medial += by_medial;
+		stats->settled_width += by_width;
 		stats->settled_slow += by_slow;
-		settled_total += by_front + by_medial + by_slow;
+		settled_total += by_front + by_medial + by_width + by_slow;
 		if ((rc = dp_progress(ctx, "sink", it, (double)settled_total, err)) != DP_OK)
 			return rc;
 	}
@@ -408,7 +439,9 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	st.block = dp_alloc_array(st.n, NARRAYS * sizeof(float));
 	st.settled = calloc(st.n, 1);
 	st.list = dp_alloc_array(st.n, sizeof *st.list);
-	if (!st.block || !st.settled || !st.list) {
+	if (params->width_factor > 0.0)
+		st.too_deep = dp_alloc_array(st.n, sizeof *st.too_deep);
+	if (!st.block || !st.settled || !st.list || (params->width_factor > 0.0 && !st.too_deep)) {
 		rc = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", st.n);
 	} else {
 		for (int k = 0; k < NARRAYS; k++)
@@ -419,6 +452,7 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	free(st.block);
 	free(st.settled);
 	free(st.list);
+	free(st.too_deep);
 	dp_kdtree_free(&st.surface_tree);
 	dp_grid_free(&st.inner);
 	dp_grid_free(&st.surface);

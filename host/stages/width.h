@@ -1,0 +1,47 @@
+/* The width bound of sinking (dpoints.h, sinking step 1c; not in the paper).
+ * A ball inscribed in a part and tangent to its surface at p is no wider than
+ * the part. Where the part is thinner than the neighbourhoods (a pole, a chair
+ * leg, an ear), its normals are often oriented across it, or its far side was
+ * never scanned, and nothing else stops a point sinking out of it: measured on
+ * pcl/lamppost.pcd, anchors a median 44 r and up to 96 r deep in the air
+ * beside a pole 5-7 r thick, and a surface a median 10 r from the data.
+ *
+ * The part's width at p is read off the samples around p, whatever p's
+ * normal says (a normal leaning along the surface is what sends a point out
+ * of it): at scales rho = WIDTH_MIN_SCALE_R r, doubling up to
+ * WIDTH_MAX_SCALE_R r, the second moments of the offsets c - p of the
+ * samples c within rho. A patch of surface around p spreads rho/2 (rms)
+ * along both of its directions; a strip or a pole of half-width a spreads
+ * about a across itself however large rho grows. The middle eigenvalue
+ * lambda_2 is that narrower spread. The first scale where
+ * rho/2 > factor * sqrt(lambda_2) bounds the depth at rho/2.
+ *
+ * Where there is no part to speak of the bound is never reached. A plane
+ * spreads rho/2 at every scale. So does the half-plane beside a scan's
+ * boundary, since the moments are taken about p, not about their mean.
+ * A one-view scan of a sphere of radius R spreads R/sqrt(3) once rho holds
+ * the whole visible half, so with factor >= 1.8 even the doubling scales
+ * bound it beyond R, past the centre that sinking must reach. */
+#ifndef DP_STAGES_WIDTH_H
+#define DP_STAGES_WIDTH_H
+
+#include "dpoints.h"
+
+/* Smallest scale, in r: a disc of 4 r holds about 50 samples, enough for
+ * three second moments. */
+#define WIDTH_MIN_SCALE_R 4.0
+/* Largest scale, in r: the bound never falls below 2 r nor exceeds 32 r. */
+#define WIDTH_MAX_SCALE_R 64.0
+/* A scale whose ball holds fewer samples says nothing. */
+#define WIDTH_MIN_COUNT 8
+
+/* bound[i] = the depth, in the units of x, beyond which sample i's inner point
+ * may not sink, or INFINITY where no scale bounds it; r > 0 the samples'
+ * spacing, factor > 0. Scales beyond 8 r read one sample in 4, 16, 64 (chosen
+ * by a hash of the index, whatever the order), about 200 in each ball, which
+ * estimates the spread to about 10%: a factor of 2 leaves a plane unbounded
+ * with a margin of two. Allocates its own scratch; reentrant. */
+dp_status dp_width_bound(size_t n, const float *x, const float *y, const float *z, double r, double factor,
+			 float *bound, dp_error *err);
+
+#endif
