@@ -108,7 +108,8 @@ typedef struct sink_state {
 	size_t nlist;
 	dp_grid inner, surface;
 	dp_kdtree surface_tree; /* the surface points, for the medial test */
-	float *too_deep;        /* the width bound of each point (width.h), or NULL when off */
+	dp_width width;         /* the width bound (width.h) */
+	int width_on;
 } sink_state;
 
 static void collect_unsettled(sink_state *st)
@@ -231,12 +232,12 @@ static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 static void settle_by_width(sink_state *st, size_t *settled)
 {
 	*settled = 0;
-	if (!st->too_deep)
+	if (!st->width_on)
 		return;
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
-		if (depth_of(st, i) >= st->too_deep[i]) {
+		if (dp_width_too_deep(&st->width, i, depth_of(st, i))) {
 			st->settled[i] = 1;
 			(*settled)++;
 		} else {
@@ -370,8 +371,11 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			return rc;
 	}
 
-	if (st->too_deep && (rc = dp_width_bound(st->n, s->x, s->y, s->z, r, p->width_factor, st->too_deep, err)) != DP_OK)
-		return rc;
+	if (p->width_factor > 0.0) {
+		if ((rc = dp_width_init(&st->width, st->n, s->x, s->y, s->z, r, p->width_factor, err)) != DP_OK)
+			return rc;
+		st->width_on = 1;
+	}
 
 	size_t settled_total = 0;
 	for (int it = 1; it <= p->max_iters; it++) {
@@ -439,9 +443,7 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	st.block = dp_alloc_array(st.n, NARRAYS * sizeof(float));
 	st.settled = calloc(st.n, 1);
 	st.list = dp_alloc_array(st.n, sizeof *st.list);
-	if (params->width_factor > 0.0)
-		st.too_deep = dp_alloc_array(st.n, sizeof *st.too_deep);
-	if (!st.block || !st.settled || !st.list || (params->width_factor > 0.0 && !st.too_deep)) {
+	if (!st.block || !st.settled || !st.list) {
 		rc = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", st.n);
 	} else {
 		for (int k = 0; k < NARRAYS; k++)
@@ -452,7 +454,7 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	free(st.block);
 	free(st.settled);
 	free(st.list);
-	free(st.too_deep);
+	dp_width_free(&st.width);
 	dp_kdtree_free(&st.surface_tree);
 	dp_grid_free(&st.inner);
 	dp_grid_free(&st.surface);

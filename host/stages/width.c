@@ -1,13 +1,14 @@
 /* The width bound of sinking: the deepest each sample's inner point may go
- * (width.h has the reasoning). */
+ * (width.h has the reasoning). Scales are read lazily, so a point that
+ * settles shallow never pays for the wide ones. */
 #include "stages/width.h"
 
 #include "core/common.h"
 #include "core/eig3.h"
-#include "grid/grid.h"
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 /* Larger scales read one in WIDTH_STRIDE_GROWTH times fewer samples: a ball
  * twice as wide on a surface holds four times as many. */
@@ -24,62 +25,31 @@ static int kept(size_t i, size_t stride)
 	return (h & (stride - 1)) == 0;
 }
 
-/* The spread of a ball's samples across the part: the square root of the
- * middle eigenvalue of their second moments about p. */
-static double across(const double ss[6], double count)
+static double scale_r(int k)
 {
-	double m[6], w[3], v[3][3];
-	for (int k = 0; k < 6; k++)
-		m[k] = ss[k] / count;
-	dp_eig3_sym(m, w, v);
-	return sqrt(fmax(w[1], 0.0));
+	return WIDTH_MIN_SCALE_R * (double)(1u << k);
 }
 
-/* One scale: every still unbounded sample i whose ball of radius rho over the
- * grid's samples spreads less than rho / (2 factor) is bounded at rho / 2. */
-static void bound_at(const dp_grid *g, size_t n, const float *x, const float *y, const float *z, float rho,
-		     double factor, float *bound)
+dp_status dp_width_init(dp_width *w, size_t n, const float *x, const float *y, const float *z, double r,
+			double factor, dp_error *err)
 {
-	float rho2 = rho * rho;
-	uint32_t beg[9], end[9];
-	for (size_t i = 0; i < n; i++) {
-		if (isfinite(bound[i]))
-			continue;
-		double ss[6] = {0}, count = 0.0;
-		dp_grid_rows(g, x[i], y[i], z[i], beg, end);
-		for (int row = 0; row < 9; row++)
-			for (uint32_t k = beg[row]; k < end[row]; k++) {
-				float dx = g->x[k] - x[i], dy = g->y[k] - y[i], dz = g->z[k] - z[i];
-				if (dx * dx + dy * dy + dz * dz >= rho2)
-					continue;
-				ss[0] += (double)dx * dx;
-				ss[1] += (double)dx * dy;
-				ss[2] += (double)dx * dz;
-				ss[3] += (double)dy * dy;
-				ss[4] += (double)dy * dz;
-				ss[5] += (double)dz * dz;
-				count += 1.0;
-			}
-		if (count >= WIDTH_MIN_COUNT && 0.5 * rho > factor * across(ss, count))
-			bound[i] = 0.5f * rho;
-	}
-}
-
-dp_status dp_width_bound(size_t n, const float *x, const float *y, const float *z, double r, double factor,
-			 float *bound, dp_error *err)
-{
-	for (size_t i = 0; i < n; i++)
-		bound[i] = INFINITY;
+	memset(w, 0, sizeof *w);
+	w->n = n;
+	w->x = x;
+	w->y = y;
+	w->z = z;
+	w->r = r;
+	w->factor = factor;
 	if (n == 0)
 		return DP_OK;
 	float *sub = dp_alloc_array(n, 3 * sizeof(float));
-	if (!sub)
-		return dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the width bound of %zu points", n);
-	dp_grid g = {0};
+	w->level = calloc(n, 1);
+	w->bound = dp_alloc_array(n, sizeof(float));
 	dp_status st = DP_OK;
+	if (!sub || !w->level || !w->bound)
+		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the width bound of %zu points", n);
 	size_t stride = 1;
-	double rho = WIDTH_MIN_SCALE_R;
-	for (int k = 0; rho <= WIDTH_MAX_SCALE_R && st == DP_OK; k++, rho *= 2.0) {
+	for (int k = 0; k < WIDTH_SCALES && st == DP_OK; k++) {
 		/* the first two scales read every sample (a ball of 4 r holds
 		 * only about 50), then each keeps about as many as the second */
 		if (k >= 2)
@@ -92,11 +62,83 @@ dp_status dp_width_bound(size_t n, const float *x, const float *y, const float *
 				sub[2 * n + m] = z[i];
 				m++;
 			}
-		st = dp_grid_build(&g, m, sub, sub + n, sub + 2 * n, (float)(rho * r), err);
-		if (st == DP_OK)
-			bound_at(&g, n, x, y, z, (float)(rho * r), factor, bound);
+		st = dp_grid_build(&w->grid[k], m, sub, sub + n, sub + 2 * n, (float)(scale_r(k) * r), err);
 	}
-	dp_grid_free(&g);
 	free(sub);
-	return st;
+	if (st != DP_OK) {
+		dp_width_free(w);
+		return st;
+	}
+	for (size_t i = 0; i < n; i++)
+		w->bound[i] = INFINITY;
+	return DP_OK;
+}
+
+void dp_width_free(dp_width *w)
+{
+	for (int k = 0; k < WIDTH_SCALES; k++)
+		dp_grid_free(&w->grid[k]);
+	free(w->level);
+	free(w->bound);
+	memset(w, 0, sizeof *w);
+}
+
+/* The spread of scale k's ball around sample i across the part: the square
+ * root of the middle eigenvalue of its samples' second moments about i, or
+ * NAN where the ball holds too few. */
+static double spread(const dp_width *w, int k, size_t i)
+{
+	const dp_grid *g = &w->grid[k];
+	float px = w->x[i], py = w->y[i], pz = w->z[i], rho = (float)(scale_r(k) * w->r), rho2 = rho * rho;
+	double ss[6] = {0}, count = 0.0;
+	uint32_t beg[9], end[9];
+	dp_grid_rows(g, px, py, pz, beg, end);
+	for (int row = 0; row < 9; row++)
+		for (uint32_t j = beg[row]; j < end[row]; j++) {
+			float dx = g->x[j] - px, dy = g->y[j] - py, dz = g->z[j] - pz;
+			if (dx * dx + dy * dy + dz * dz >= rho2)
+				continue;
+			ss[0] += (double)dx * dx;
+			ss[1] += (double)dx * dy;
+			ss[2] += (double)dx * dz;
+			ss[3] += (double)dy * dy;
+			ss[4] += (double)dy * dz;
+			ss[5] += (double)dz * dz;
+			count += 1.0;
+		}
+	if (count < WIDTH_MIN_COUNT)
+		return NAN;
+	double m[6], ev[3], vec[3][3];
+	for (int c = 0; c < 6; c++)
+		m[c] = ss[c] / count;
+	dp_eig3_sym(m, ev, vec);
+	return sqrt(fmax(ev[1], 0.0));
+}
+
+int dp_width_too_deep(dp_width *w, size_t i, float depth)
+{
+	/* scale k can bound sample i only once it is rho_k / 2 deep */
+	while (!isfinite(w->bound[i]) && w->level[i] < WIDTH_SCALES &&
+	       depth >= (float)(0.5 * scale_r(w->level[i]) * w->r)) {
+		int k = w->level[i]++;
+		double rho = scale_r(k) * w->r, s = spread(w, k, i);
+		if (0.5 * rho > w->factor * s)
+			w->bound[i] = (float)(0.5 * rho);
+	}
+	return depth >= w->bound[i];
+}
+
+dp_status dp_width_bound(size_t n, const float *x, const float *y, const float *z, double r, double factor,
+			 float *bound, dp_error *err)
+{
+	dp_width w;
+	dp_status st = dp_width_init(&w, n, x, y, z, r, factor, err);
+	if (st != DP_OK)
+		return st;
+	for (size_t i = 0; i < n; i++) {
+		dp_width_too_deep(&w, i, INFINITY);
+		bound[i] = w.bound[i];
+	}
+	dp_width_free(&w);
+	return DP_OK;
 }

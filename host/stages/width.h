@@ -26,21 +26,44 @@
 #define DP_STAGES_WIDTH_H
 
 #include "dpoints.h"
+#include "grid/grid.h"
 
 /* Smallest scale, in r: a disc of 4 r holds about 50 samples, enough for
  * three second moments. */
 #define WIDTH_MIN_SCALE_R 4.0
-/* Largest scale, in r: the bound never falls below 2 r nor exceeds 32 r. */
-#define WIDTH_MAX_SCALE_R 64.0
+/* Scales 4, 8, 16, 32, 64 r: the bound never falls below 2 r nor exceeds
+ * 32 r. */
+#define WIDTH_SCALES 5
 /* A scale whose ball holds fewer samples says nothing. */
 #define WIDTH_MIN_COUNT 8
 
+/* Scales beyond 8 r read one sample in 4, 16, 64 (chosen by a hash of the
+ * index, whatever the order), about 200 in each ball, which estimates the
+ * spread to about 10%: a factor of 2 leaves a plane unbounded with a margin
+ * of two. */
+typedef struct dp_width {
+	size_t n;
+	const float *x, *y, *z; /* the samples (borrowed) */
+	double r, factor;
+	dp_grid grid[WIDTH_SCALES];
+	unsigned char *level;   /* per sample: scales read so far */
+	float *bound;           /* per sample: the bound found, INFINITY until one is */
+} dp_width;
+
+/* Grids for every scale over the n samples (positions borrowed until
+ * dp_width_free); r > 0 their spacing, factor > 0. */
+dp_status dp_width_init(dp_width *w, size_t n, const float *x, const float *y, const float *z, double r,
+			double factor, dp_error *err);
+void dp_width_free(dp_width *w);
+/* Whether an inner point `depth` deep below sample i has reached i's bound.
+ * Reads the scales that depth makes relevant (rho / 2 <= depth) on first
+ * need and remembers them, so a point that settles shallow never reads the
+ * wide ones. */
+int dp_width_too_deep(dp_width *w, size_t i, float depth);
+
 /* bound[i] = the depth, in the units of x, beyond which sample i's inner point
- * may not sink, or INFINITY where no scale bounds it; r > 0 the samples'
- * spacing, factor > 0. Scales beyond 8 r read one sample in 4, 16, 64 (chosen
- * by a hash of the index, whatever the order), about 200 in each ball, which
- * estimates the spread to about 10%: a factor of 2 leaves a plane unbounded
- * with a margin of two. Allocates its own scratch; reentrant. */
+ * may not sink, or INFINITY where no scale bounds it: every scale read at
+ * once. */
 dp_status dp_width_bound(size_t n, const float *x, const float *y, const float *z, double r, double factor,
 			 float *bound, dp_error *err);
 
