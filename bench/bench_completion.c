@@ -16,7 +16,10 @@
  *            its legs: whether each stays a tube in the surface and a curve
  *            in the skeleton (legs below);
  *   rods     the built-in thin parts (rods under 3 r thick) from two sides;
- *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps.
+ *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps;
+ *   lamppost pcl/lamppost.pcd, a pole a few r thick: how far the surface and
+ *            the skeleton lie from the data (median and 90th percentile, in
+ *            r), which a thin part turned into a cloud makes many r.
  * --surface-iters caps the coarse level's surface iterations instead of the
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
@@ -24,6 +27,7 @@
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
 #include "dpoints_tools.h"
+#include "knn/knn.h"
 #include "tools/shapes.h"
 
 #include <limits.h>
@@ -368,10 +372,70 @@ static int run_statue(dp_context *ctx, const options *o)
 	return rc;
 }
 
+static int by_value(const void *a, const void *b)
+{
+	float x = *(const float *)a, y = *(const float *)b;
+	return (x > y) - (x < y);
+}
+
+/* Median and 90th percentile of the distances from c's points to the input
+ * indexed by knn, in r. */
+static int print_to_input(const char *name, const dp_knn *knn, const dp_cloud *c, double r, dp_error *err)
+{
+	int *idx = malloc(c->n * sizeof *idx);
+	float *d2 = malloc(c->n * sizeof *d2);
+	int rc = -1;
+	if (idx && d2 && dp_knn_query(knn, c->n, c->x, c->y, c->z, 1, idx, d2, err) == DP_OK) {
+		qsort(d2, c->n, sizeof *d2, by_value);
+		printf(",\"%s_to_input_r\":{\"median\":%.3f,\"p90\":%.3f}", name, sqrt(d2[c->n / 2]) / r,
+		       sqrt(d2[(size_t)(0.9 * (double)(c->n - 1))]) / r);
+		rc = 0;
+	}
+	free(idx);
+	free(d2);
+	return rc;
+}
+
+static int run_lamppost(dp_context *ctx, const options *o)
+{
+	char path[4096];
+	snprintf(path, sizeof path, "%s/pcl/lamppost.pcd", o->data);
+	dp_cloud in = {0};
+	dp_error err = {0};
+	if (dp_cloud_read(path, &in, DP_READ_POINTS, &err) != DP_OK) {
+		fprintf(stderr, "bench_completion: lamppost skipped: %s\n", err.message);
+		return 0;
+	}
+	dp_params p;
+	dp_params_default(&p);
+	if (opts->surface_iters >= 0)
+		p.surface.max_iters = opts->surface_iters;
+	dp_result res = {0};
+	dp_knn knn = {0};
+	int rc = -1;
+	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK && dp_knn_build(&knn, in.n, in.x, in.y, in.z, &err) == DP_OK) {
+		printf("{\"bench\":\"completion\",\"case\":\"lamppost\",\"raw\":%zu", in.n);
+		print_stages(&res);
+		printf(",\"sink_settled\":{\"front\":%zu,\"medial\":%zu,\"width\":%zu,\"slow\":%zu,\"unsettled\":%zu}",
+		       res.sink_stats.settled_front, res.sink_stats.settled_medial, res.sink_stats.settled_width,
+		       res.sink_stats.settled_slow, res.sink_stats.unsettled);
+		if (print_to_input("surface", &knn, &res.surface, res.r, &err) == 0 &&
+		    print_to_input("skeleton", &knn, &res.skeleton, res.r, &err) == 0)
+			rc = 0;
+		printf("}\n");
+	}
+	if (rc)
+		fprintf(stderr, "bench_completion: lamppost: %s\n", err.message);
+	dp_knn_free(&knn);
+	dp_result_free(&res);
+	dp_cloud_free(&in);
+	return rc;
+}
+
 static int parse(int argc, char **argv, options *o)
 {
 	const char *sizes = DEFAULT_SAMPLES;
-	o->cases = "sphere,bunny1,bunny2,chair,rods,statue";
+	o->cases = "sphere,bunny1,bunny2,chair,rods,statue,lamppost";
 	o->data = getenv("DP_DATA_DIR") ? getenv("DP_DATA_DIR") : "../shared/data";
 	o->device = NULL;
 	o->save = NULL;
@@ -421,7 +485,7 @@ int main(int argc, char **argv)
 	options o;
 	opts = &o;
 	if (parse(argc, argv, &o)) {
-		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue] "
+		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue,lamppost] "
 				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N]\n");
 		return 2;
 	}
@@ -448,6 +512,8 @@ int main(int argc, char **argv)
 		rc |= run_shape(ctx, "rods", 2, CHAIR_RES, 0, &o, "rods");
 	if (wanted(&o, "statue"))
 		rc |= run_statue(ctx, &o);
+	if (wanted(&o, "lamppost"))
+		rc |= run_lamppost(ctx, &o);
 	dp_context_free(ctx);
 	return rc ? 1 : 0;
 }

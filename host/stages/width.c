@@ -85,7 +85,8 @@ void dp_width_free(dp_width *w)
 
 /* The spread of scale k's ball around sample i across the part: the square
  * root of the middle eigenvalue of its samples' second moments about i, or
- * NAN where the ball holds too few. */
+ * NAN where the ball holds fewer than WIDTH_MIN_COUNT of the scale's
+ * samples (a patch of surface holds about 40 at 4 r, 200 beyond). */
 static double spread(const dp_width *w, int k, size_t i)
 {
 	const dp_grid *g = &w->grid[k];
@@ -122,7 +123,13 @@ int dp_width_too_deep(dp_width *w, size_t i, float depth)
 	       depth >= (float)(0.5 * scale_r(w->level[i]) * w->r)) {
 		int k = w->level[i]++;
 		double rho = scale_r(k) * w->r, s = spread(w, k, i);
-		if (0.5 * rho > w->factor * s)
+		/* Too few samples at a small scale is a sparse spot, such as a
+		 * straggler at a scan's rim, which must still sink to the centre
+		 * with its neighbours. Too few in the widest ball is an outlier
+		 * or a stray cluster with no part around it: nothing else stops
+		 * a point without neighbours short of the iteration cap. */
+		int isolated = isnan(s) && k == WIDTH_SCALES - 1;
+		if (isolated || 0.5 * rho > w->factor * s)
 			w->bound[i] = (float)(0.5 * rho);
 	}
 	return depth >= w->bound[i];

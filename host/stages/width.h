@@ -34,7 +34,8 @@
 /* Scales 4, 8, 16, 32, 64 r: the bound never falls below 2 r nor exceeds
  * 32 r. */
 #define WIDTH_SCALES 5
-/* A scale whose ball holds fewer samples says nothing. */
+/* A ball holding fewer samples measures nothing; the widest one holding
+ * fewer bounds the point (an outlier, a stray cluster: no part around it). */
 #define WIDTH_MIN_COUNT 8
 
 /* Scales beyond 8 r read one sample in 4, 16, 64 (chosen by a hash of the
