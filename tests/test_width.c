@@ -175,6 +175,31 @@ static void test_hemisphere_beyond_centre(void **state)
 	samples_free(&s);
 }
 
+/* An outlier far from a plane: no ball around it holds a part, so only the
+ * widest bounds it; a straggler just beyond the plane's edge, whose small
+ * balls are sparse, is left to sink with its neighbours. */
+static void test_outlier_bounded(void **state)
+{
+	(void)state;
+	dp_rng rng;
+	dp_rng_seed(&rng, 5);
+	samples s = {0};
+	rectangle(&s, &rng, 60, 60);
+	add(&s, &rng, 30.0, 30.0, 200.0);
+	add(&s, &rng, 62.5, 30.0, 0.0);
+	float *b = bounds(&s);
+	size_t plane = 0;
+	for (size_t i = 0; i + 2 < s.n; i++)
+		plane += isfinite(b[i]) != 0;
+	printf("  outlier bounded at %.1f r, straggler at %.1f r, %zu plane samples bounded\n", b[s.n - 2], b[s.n - 1],
+	       plane);
+	assert_true(b[s.n - 2] == (float)(0.5 * WIDTH_MIN_SCALE_R * (1 << (WIDTH_SCALES - 1))));
+	assert_false(isfinite(b[s.n - 1]));
+	assert_int_equal(plane, 0);
+	free(b);
+	samples_free(&s);
+}
+
 static void test_empty(void **state)
 {
 	(void)state;
@@ -189,6 +214,7 @@ int main(void)
 		cmocka_unit_test(test_strip_bounded),
 		cmocka_unit_test(test_pole_bounded),
 		cmocka_unit_test(test_hemisphere_beyond_centre),
+		cmocka_unit_test(test_outlier_bounded),
 		cmocka_unit_test(test_empty),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
