@@ -382,6 +382,10 @@ static int by_value(const void *a, const void *b)
  * indexed by knn, in r. */
 static int print_to_input(const char *name, const dp_knn *knn, const dp_cloud *c, double r, dp_error *err)
 {
+	if (c->n == 0) {
+		printf(",\"%s_to_input_r\":null", name);
+		return 0;
+	}
 	int *idx = malloc(c->n * sizeof *idx);
 	float *d2 = malloc(c->n * sizeof *d2);
 	int rc = -1;

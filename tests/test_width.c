@@ -38,8 +38,8 @@ static void add(samples *s, dp_rng *rng, double x, double y, double z)
 	s->n++;
 }
 
-/* Fisher-Yates: the bound reads every k-th sample at large scales and
- * expects WLOP's random order. */
+/* Fisher-Yates: WLOP leaves its samples in random order (the bound's
+ * choice of samples at wide scales does not depend on it). */
 static void shuffle(samples *s, dp_rng *rng)
 {
 	for (size_t i = s->n; i > 1; i--) {
@@ -151,7 +151,9 @@ static void test_pole_bounded(void **state)
 static void test_hemisphere_beyond_centre(void **state)
 {
 	(void)state;
-	const double R = 12.0;
+	/* 2R just above the 16 r scale: the widest ball short of holding the
+	 * whole half, the closest the bound comes to R */
+	const double R = 8.2;
 	dp_rng rng;
 	dp_rng_seed(&rng, 4);
 	samples s = {0};
@@ -169,7 +171,7 @@ static void test_hemisphere_beyond_centre(void **state)
 	float lo = INFINITY;
 	for (size_t i = 0; i < s.n; i++)
 		lo = fminf(lo, b[i]);
-	printf("  hemisphere of radius %.0f r, %zu samples: smallest bound %.1f r\n", R, s.n, lo);
+	printf("  hemisphere of radius %.1f r, %zu samples: smallest bound %.1f r\n", R, s.n, lo);
 	assert_true(lo > (float)R);
 	free(b);
 	samples_free(&s);
@@ -193,10 +195,41 @@ static void test_outlier_bounded(void **state)
 		plane += isfinite(b[i]) != 0;
 	printf("  outlier bounded at %.1f r, straggler at %.1f r, %zu plane samples bounded\n", b[s.n - 2], b[s.n - 1],
 	       plane);
-	assert_true(b[s.n - 2] == (float)(0.5 * WIDTH_MIN_SCALE_R * (1 << (WIDTH_SCALES - 1))));
+	assert_true(b[s.n - 2] == (float)(0.5 * DP_WIDTH_MIN_SCALE_R * (1 << (DP_WIDTH_SCALES - 1))));
 	assert_false(isfinite(b[s.n - 1]));
 	assert_int_equal(plane, 0);
 	free(b);
+	samples_free(&s);
+}
+
+/* Read lazily, a scale is measured only once a point is half that scale
+ * deep, and the bound found is the one every scale read at once gives. */
+static void test_lazy_same(void **state)
+{
+	(void)state;
+	dp_rng rng;
+	dp_rng_seed(&rng, 6);
+	samples s = {0};
+	rectangle(&s, &rng, 200, 7);
+	float *all = bounds(&s);
+	dp_width w;
+	dp_error err = {0};
+	assert_int_equal(dp_width_init(&w, s.n, s.x, s.y, s.z, 1.0, FACTOR, &err), DP_OK);
+	for (size_t i = 0; i < s.n; i++) {
+		assert_false(dp_width_too_deep(&w, i, 1.0f));
+		assert_int_equal(w.level[i], 0);
+		/* beyond the widest scale's bound, 32 r, nothing changes */
+		float depth = 0.0f;
+		while (depth <= 40.0f && !dp_width_too_deep(&w, i, depth))
+			depth += 0.5f;
+		if (isfinite(all[i]))
+			assert_true(depth >= all[i] && depth < all[i] + 0.5f);
+		else
+			assert_true(depth > 40.0f);
+		assert_true(w.bound[i] == all[i]);
+	}
+	dp_width_free(&w);
+	free(all);
 	samples_free(&s);
 }
 
@@ -215,6 +248,7 @@ int main(void)
 		cmocka_unit_test(test_pole_bounded),
 		cmocka_unit_test(test_hemisphere_beyond_centre),
 		cmocka_unit_test(test_outlier_bounded),
+		cmocka_unit_test(test_lazy_same),
 		cmocka_unit_test(test_empty),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

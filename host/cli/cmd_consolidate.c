@@ -155,7 +155,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "(1e9: every settled neighbour, as in the paper)", NULL, NULL},
 		{"--width-factor", CLI_DOUBLE, &p->sink.width_factor,
 		 "a sinking point stops once as deep as half the scale at which the samples around its surface point "
-		 "spread less than that scale / (2 * this): thin parts stay thin (0 = off)", NULL, NULL},
+		 "spread less than that scale / (2 * this): points leaving a thin part stop within a few of its widths "
+		 "(0 = off)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},
 		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},

@@ -392,11 +392,13 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     eigenvalue of their second moments about p_i) less than
  *     rho / (2 width_factor): an inscribed ball is no wider than its part.
  *     A surface patch spreads rho/2 at every scale, a pole or a leg of
- *     half-width a about a. Where a part is thinner than σp its normals are
+ *     radius a about 1.2a, so a point leaving a thin part stops within a
+ *     few of its widths. Where a part is thinner than σp its normals are
  *     often oriented across it, or its far side was never scanned, and
- *     nothing else stops the sinking (measured on pcl/lamppost.pcd: anchors a
- *     median 44 r deep in the air beside a pole 5-7 r thick, 4.5 r with the
- *     bound; host/stages/width.h);
+ *     nothing else stops the sinking (measured on pcl/lamppost.pcd: the
+ *     skeleton a median 41 r from the data, 2.3 r with the bound; a
+ *     sample with fewer than about 500 others within 64 r, an outlier,
+ *     stops at 32 r; host/stages/width.h);
  *  2. step t_i: first_step_r × r in the first iteration, then the mean over the
  *     static neighbourhood P_i (surface points within sigma_p × r, i included)
  *     of the distance each inner point moved in the previous iteration (settled

@@ -60,6 +60,11 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 	if (!(p->width_factor >= 0.0 && isfinite(p->width_factor)))
 		return dp_fail(err, DP_ERR_ARG, "sink: width factor %g is not a finite number >= 0 (0 turns the bound off)",
 			       p->width_factor);
+	/* the widest scale becomes a grid cell, a float */
+	double widest = DP_WIDTH_MIN_SCALE_R * (double)(1u << (DP_WIDTH_SCALES - 1));
+	if (p->width_factor > 0.0 && !isfinite((float)(r * widest)))
+		return dp_fail(err, DP_ERR_ARG, "sink: the width bound's widest scale, %g r with r = %g, overflows a float",
+			       widest, r);
 	/* Lengths go to the device as floats. */
 	if (!isfinite((float)(r * fmax(p->sigma_p, p->settle_radius_r * fmax(p->front_factor, 1.0)))))
 		return dp_fail(err, DP_ERR_ARG, "sink: radii of r = %g overflow a float", r);
@@ -362,14 +367,13 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 
 	float medial_margin = (float)(p->medial_margin_r * r), meet_shift = (float)(p->meet_shift_r * r);
 	float slow_margin = (float)(p->slow_margin_r * r);
-	if (medial_margin > 0.0f) {
-		/* squared distances must not overflow (the test compares them) */
-		rc = dp_check_span("sink", st->n, s->x, s->y, s->z, err);
-		if (rc == DP_OK)
-			rc = dp_kdtree_build(&st->surface_tree, st->n, s->x, s->y, s->z, err);
-		if (rc != DP_OK)
-			return rc;
-	}
+	/* squared distances must not overflow (the medial test compares them, the
+	 * width bound's grids hold them) */
+	if ((medial_margin > 0.0f || p->width_factor > 0.0) &&
+	    (rc = dp_check_span("sink", st->n, s->x, s->y, s->z, err)) != DP_OK)
+		return rc;
+	if (medial_margin > 0.0f && (rc = dp_kdtree_build(&st->surface_tree, st->n, s->x, s->y, s->z, err)) != DP_OK)
+		return rc;
 
 	if (p->width_factor > 0.0) {
 		if ((rc = dp_width_init(&st->width, st->n, s->x, s->y, s->z, r, p->width_factor, err)) != DP_OK)

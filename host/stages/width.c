@@ -11,8 +11,10 @@
 #include <string.h>
 
 /* Larger scales read one in WIDTH_STRIDE_GROWTH times fewer samples: a ball
- * twice as wide on a surface holds four times as many. */
+ * twice as wide on a surface holds four times as many. A power of two, for
+ * the mask in kept(). */
 #define WIDTH_STRIDE_GROWTH 4
+_Static_assert((WIDTH_STRIDE_GROWTH & (WIDTH_STRIDE_GROWTH - 1)) == 0, "the stride must be a power of two");
 
 /* Which samples a scale reads, by a hash of the index rather than every k-th
  * one: samples in scan order would otherwise leave whole scan lines. */
@@ -27,7 +29,7 @@ static int kept(size_t i, size_t stride)
 
 static double scale_r(int k)
 {
-	return WIDTH_MIN_SCALE_R * (double)(1u << k);
+	return DP_WIDTH_MIN_SCALE_R * (double)(1u << k);
 }
 
 dp_status dp_width_init(dp_width *w, size_t n, const float *x, const float *y, const float *z, double r,
@@ -49,7 +51,7 @@ dp_status dp_width_init(dp_width *w, size_t n, const float *x, const float *y, c
 	if (!sub || !w->level || !w->bound)
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the width bound of %zu points", n);
 	size_t stride = 1;
-	for (int k = 0; k < WIDTH_SCALES && st == DP_OK; k++) {
+	for (int k = 0; k < DP_WIDTH_SCALES && st == DP_OK; k++) {
 		/* the first two scales read every sample (a ball of 4 r holds
 		 * only about 50), then each keeps about as many as the second */
 		if (k >= 2)
@@ -76,7 +78,7 @@ dp_status dp_width_init(dp_width *w, size_t n, const float *x, const float *y, c
 
 void dp_width_free(dp_width *w)
 {
-	for (int k = 0; k < WIDTH_SCALES; k++)
+	for (int k = 0; k < DP_WIDTH_SCALES; k++)
 		dp_grid_free(&w->grid[k]);
 	free(w->level);
 	free(w->bound);
@@ -85,29 +87,30 @@ void dp_width_free(dp_width *w)
 
 /* The spread of scale k's ball around sample i across the part: the square
  * root of the middle eigenvalue of its samples' second moments about i, or
- * NAN where the ball holds fewer than WIDTH_MIN_COUNT of the scale's
+ * NAN where the ball holds fewer than DP_WIDTH_MIN_COUNT of the scale's
  * samples (a patch of surface holds about 40 at 4 r, 200 beyond). */
 static double spread(const dp_width *w, int k, size_t i)
 {
 	const dp_grid *g = &w->grid[k];
-	float px = w->x[i], py = w->y[i], pz = w->z[i], rho = (float)(scale_r(k) * w->r), rho2 = rho * rho;
+	/* in double: squares of a float span near its range overflow */
+	double px = w->x[i], py = w->y[i], pz = w->z[i], rho = scale_r(k) * w->r, rho2 = rho * rho;
 	double ss[6] = {0}, count = 0.0;
 	uint32_t beg[9], end[9];
-	dp_grid_rows(g, px, py, pz, beg, end);
+	dp_grid_rows(g, w->x[i], w->y[i], w->z[i], beg, end);
 	for (int row = 0; row < 9; row++)
 		for (uint32_t j = beg[row]; j < end[row]; j++) {
-			float dx = g->x[j] - px, dy = g->y[j] - py, dz = g->z[j] - pz;
+			double dx = g->x[j] - px, dy = g->y[j] - py, dz = g->z[j] - pz;
 			if (dx * dx + dy * dy + dz * dz >= rho2)
 				continue;
-			ss[0] += (double)dx * dx;
-			ss[1] += (double)dx * dy;
-			ss[2] += (double)dx * dz;
-			ss[3] += (double)dy * dy;
-			ss[4] += (double)dy * dz;
-			ss[5] += (double)dz * dz;
+			ss[0] += dx * dx;
+			ss[1] += dx * dy;
+			ss[2] += dx * dz;
+			ss[3] += dy * dy;
+			ss[4] += dy * dz;
+			ss[5] += dz * dz;
 			count += 1.0;
 		}
-	if (count < WIDTH_MIN_COUNT)
+	if (count < DP_WIDTH_MIN_COUNT)
 		return NAN;
 	double m[6], ev[3], vec[3][3];
 	for (int c = 0; c < 6; c++)
@@ -119,7 +122,7 @@ static double spread(const dp_width *w, int k, size_t i)
 int dp_width_too_deep(dp_width *w, size_t i, float depth)
 {
 	/* scale k can bound sample i only once it is rho_k / 2 deep */
-	while (!isfinite(w->bound[i]) && w->level[i] < WIDTH_SCALES &&
+	while (!isfinite(w->bound[i]) && w->level[i] < DP_WIDTH_SCALES &&
 	       depth >= (float)(0.5 * scale_r(w->level[i]) * w->r)) {
 		int k = w->level[i]++;
 		double rho = scale_r(k) * w->r, s = spread(w, k, i);
@@ -128,7 +131,7 @@ int dp_width_too_deep(dp_width *w, size_t i, float depth)
 		 * with its neighbours. Too few in the widest ball is an outlier
 		 * or a stray cluster with no part around it: nothing else stops
 		 * a point without neighbours short of the iteration cap. */
-		int isolated = isnan(s) && k == WIDTH_SCALES - 1;
+		int isolated = isnan(s) && k == DP_WIDTH_SCALES - 1;
 		if (isolated || 0.5 * rho > w->factor * s)
 			w->bound[i] = (float)(0.5 * rho);
 	}
