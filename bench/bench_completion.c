@@ -184,19 +184,38 @@ static void print_legs(const dp_result *res)
 	printf("],\"legs_apart\":%zu,\"leg_radius_r\":%.3f", apart, s.radius / r);
 }
 
+/* The library's defaults with this run's --surface-iters. */
+static void bench_params(dp_params *p)
+{
+	dp_params_default(p);
+	if (opts->surface_iters >= 0)
+		p->surface.max_iters = opts->surface_iters;
+}
+
+/* Reads `file` under the data folder into `in`: 1, or 0 after a "skipped"
+ * message when it cannot be read. */
+static int read_data(const char *file, const char *name, dp_cloud *in)
+{
+	char path[4096];
+	dp_error err = {0};
+	snprintf(path, sizeof path, "%s/%s", opts->data, file);
+	if (dp_cloud_read(path, in, DP_READ_POINTS, &err) == DP_OK)
+		return 1;
+	fprintf(stderr, "bench_completion: %s skipped: %s\n", name, err.message);
+	return 0;
+}
+
 /* Consolidates `in`, evaluates input and surface against `mesh`, prints one
  * line. `samples` 0 keeps the library's default count. */
 static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp_cloud *in, size_t samples)
 {
 	dp_error err = {0};
 	dp_params p;
-	dp_params_default(&p);
+	bench_params(&p);
 	if (samples)
 		p.wlop.samples = samples;
 	if (opts->coarse)
 		p.refine.coarse_samples = opts->coarse;
-	if (opts->surface_iters >= 0)
-		p.surface.max_iters = opts->surface_iters;
 	dp_result res = {0};
 	dp_cloud guessed = {0};
 	dp_eval_result ei, es, eg;
@@ -343,20 +362,14 @@ out:
 	return rc;
 }
 
-static int run_statue(dp_context *ctx, const options *o)
+static int run_statue(dp_context *ctx)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s/paper/statue-fig12b-raw.xyz", o->data);
 	dp_cloud in = {0};
 	dp_error err = {0};
-	if (dp_cloud_read(path, &in, DP_READ_POINTS, &err) != DP_OK) {
-		fprintf(stderr, "bench_completion: statue skipped: %s\n", err.message);
+	if (!read_data("paper/statue-fig12b-raw.xyz", "statue", &in))
 		return 0;
-	}
 	dp_params p;
-	dp_params_default(&p);
-	if (opts->surface_iters >= 0)
-		p.surface.max_iters = opts->surface_iters;
+	bench_params(&p);
 	dp_result res = {0};
 	int rc = -1;
 	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK) {
@@ -400,20 +413,14 @@ static int print_to_input(const char *name, const dp_knn *knn, const dp_cloud *c
 	return rc;
 }
 
-static int run_lamppost(dp_context *ctx, const options *o)
+static int run_lamppost(dp_context *ctx)
 {
-	char path[4096];
-	snprintf(path, sizeof path, "%s/pcl/lamppost.pcd", o->data);
 	dp_cloud in = {0};
 	dp_error err = {0};
-	if (dp_cloud_read(path, &in, DP_READ_POINTS, &err) != DP_OK) {
-		fprintf(stderr, "bench_completion: lamppost skipped: %s\n", err.message);
+	if (!read_data("pcl/lamppost.pcd", "lamppost", &in))
 		return 0;
-	}
 	dp_params p;
-	dp_params_default(&p);
-	if (opts->surface_iters >= 0)
-		p.surface.max_iters = opts->surface_iters;
+	bench_params(&p);
 	dp_result res = {0};
 	dp_knn knn = {0};
 	int rc = -1;
@@ -515,9 +522,9 @@ int main(int argc, char **argv)
 	if (wanted(&o, "rods"))
 		rc |= run_shape(ctx, "rods", 2, CHAIR_RES, 0, &o, "rods");
 	if (wanted(&o, "statue"))
-		rc |= run_statue(ctx, &o);
+		rc |= run_statue(ctx);
 	if (wanted(&o, "lamppost"))
-		rc |= run_lamppost(ctx, &o);
+		rc |= run_lamppost(ctx);
 	dp_context_free(ctx);
 	return rc ? 1 : 0;
 }
