@@ -36,7 +36,6 @@ dp_status dp_width_init(dp_width *w, size_t n, const float *x, const float *y, c
 			double factor, dp_error *err)
 {
 	memset(w, 0, sizeof *w);
-	w->n = n;
 	w->x = x;
 	w->y = y;
 	w->z = z;

@@ -51,7 +51,6 @@
  * spread to about 10%: a factor of 2 leaves a plane unbounded with a margin
  * of two. */
 typedef struct dp_width {
-	size_t n;
 	const float *x, *y, *z; /* the samples (borrowed) */
 	double r, factor;
 	dp_grid grid[DP_WIDTH_SCALES];
