@@ -637,7 +637,7 @@ static dp_status run_sink(dp_context *ctx, const dp_cloud *s, double r_unit, int
 		p.max_iters = cap;
 	dp_sink_stats st;
 	double t0 = dp_seconds();
-	dp_status rc = dp_sink(ctx, s, r_unit, &p, h, &st, err);
+	dp_status rc = dp_sink(ctx, s, r_unit, &p, h, NULL, &st, err);
 	r->seconds = dp_seconds() - t0;
 	r->pairs = st.pair_evaluations;
 	r->iterations = st.iterations;
@@ -688,7 +688,7 @@ static dp_status run_surface(dp_context *ctx, const dp_cloud *c, const dp_cloud 
 		return rc;
 	dp_surface_stats st;
 	double t0 = dp_seconds();
-	rc = dp_surface(ctx, c, s, &qc, r_unit, &p, p_out, eta, &st, err);
+	rc = dp_surface(ctx, c, s, &qc, NULL, r_unit, &p, p_out, eta, &st, err);
 	r->seconds = dp_seconds() - t0;
 	r->pairs = st.pair_evaluations;
 	r->iterations = st.iterations;

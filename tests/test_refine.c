@@ -99,6 +99,41 @@ static void test_insert_sphere(void **state)
 	dp_cloud_free(&k);
 }
 
+/* Inserted points take an existing inner end, never a blend: a ball's
+ * skeleton is one spot, and a straggler a few r off it must not grow a
+ * bridge of midpoints towards it. */
+static void test_insert_keeps_skeleton_spots(void **state)
+{
+	(void)state;
+	size_t target = 4 * SPHERE_POINTS;
+	dp_cloud s = {0}, k = {0};
+	fibonacci_sphere(SPHERE_POINTS, target, &s, &k);
+	for (size_t i = 0; i < s.n; i++)
+		k.x[i] = k.y[i] = k.z[i] = 0.0f;
+	/* the straggler, under point 0 */
+	k.x[0] = 0.3f * s.x[0], k.y[0] = 0.3f * s.y[0], k.z[0] = 0.3f * s.z[0];
+	dp_error err = {0};
+	size_t added = 0;
+	if (dp_refine_insert(&s, &k, target, &added, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	size_t at_straggler = 0;
+	for (size_t i = SPHERE_POINTS; i < k.n; i++) {
+		int centre = k.x[i] == 0.0f && k.y[i] == 0.0f && k.z[i] == 0.0f;
+		int straggler = k.x[i] == k.x[0] && k.y[i] == k.y[0] && k.z[i] == k.z[0];
+		assert_true(centre || straggler);
+		if (straggler) {
+			at_straggler++;
+			/* taken only where it is the nearer to the new point's normal line */
+			double dot = s.x[i] * s.x[0] + s.y[i] * s.y[0] + s.z[i] * s.z[0];
+			assert_true(dot > 0.9);
+		}
+	}
+	printf("%zu of %zu inserted points took the straggler\n", at_straggler, added);
+	assert_true(at_straggler < 10);
+	dp_cloud_free(&s);
+	dp_cloud_free(&k);
+}
+
 /* Growth beyond one subdivision (about 4x) takes several passes, each with
  * its gap test at the spacing it starts from: 8x must reach its target. */
 static void test_insert_many_passes(void **state)
@@ -203,6 +238,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_levels),
 		cmocka_unit_test(test_insert_sphere),
+		cmocka_unit_test(test_insert_keeps_skeleton_spots),
 		cmocka_unit_test(test_insert_many_passes),
 		cmocka_unit_test(test_insert_thin),
 		cmocka_unit_test(test_upsample_pipeline),

@@ -209,7 +209,7 @@ static void run_sink_with(dp_context *ctx, const dp_cloud *s, double r, const dp
 			  dp_sink_stats *stats)
 {
 	dp_error err = {0};
-	if (dp_sink(ctx, s, r, p, anchors, stats, &err) != DP_OK)
+	if (dp_sink(ctx, s, r, p, anchors, NULL, stats, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	assert_int_equal(anchors->n, s->n);
 	for (size_t i = 0; i < s->n; i++)
@@ -607,7 +607,7 @@ static void test_cap_reported(void **state)
 	p.max_iters = 3;
 	dp_sink_stats st;
 	dp_error err = {0};
-	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &h, &st, &err), DP_OK);
+	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &h, NULL, &st, &err), DP_OK);
 	assert_int_equal(st.iterations, 3);
 	assert_int_equal(st.unsettled, c.n);
 	assert_int_equal(st.settled_front + st.settled_slow, 0);
@@ -679,7 +679,7 @@ static void expect_error(const dp_cloud *c, double r, const dp_sink_params *p, d
 {
 	dp_cloud h = {.n = 99};
 	dp_error err = {0};
-	dp_status got = dp_sink(tk_ref_context(), c, r, p, &h, NULL, &err);
+	dp_status got = dp_sink(tk_ref_context(), c, r, p, &h, NULL, NULL, &err);
 	if (got != want)
 		fail_msg("%s: status %d, want %d (%s)", what, (int)got, (int)want, err.message);
 	printf("  %s: %s\n", what, err.message);
@@ -729,9 +729,9 @@ static void test_bad_input(void **state)
 	dp_cloud paper_rule, huge;
 	dp_error err_inf = {0};
 	p.slow_margin_r = INFINITY;
-	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &paper_rule, NULL, &err_inf), DP_OK);
+	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &paper_rule, NULL, NULL, &err_inf), DP_OK);
 	p.slow_margin_r = 1e9;
-	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &huge, NULL, &err_inf), DP_OK);
+	assert_int_equal(dp_sink(tk_cl_context(), &c, r, &p, &huge, NULL, NULL, &err_inf), DP_OK);
 	for (size_t i = 0; i < c.n; i++)
 		assert_true(paper_rule.x[i] == huge.x[i] && paper_rule.y[i] == huge.y[i] && paper_rule.z[i] == huge.z[i]);
 	dp_cloud_free(&paper_rule);
@@ -753,7 +753,7 @@ static void test_bad_input(void **state)
 	c.nx = nx;
 	dp_cloud h;
 	dp_error err = {0};
-	assert_int_equal(dp_sink(tk_ref_context(), &c, r, NULL, &h, NULL, &err), DP_OK);
+	assert_int_equal(dp_sink(tk_ref_context(), &c, r, NULL, &h, NULL, NULL, &err), DP_OK);
 	dp_cloud_free(&h);
 	dp_cloud_free(&c);
 }

@@ -220,7 +220,7 @@ static void run_stage(dp_context *ctx, scene *sc, const dp_surface_params *p, dp
 		      dp_surface_stats *st)
 {
 	dp_error err = {0};
-	if (dp_surface(ctx, &sc->input, &sc->samples, &sc->skeleton, sc->r, p, out, eta, st, &err) != DP_OK)
+	if (dp_surface(ctx, &sc->input, &sc->samples, &sc->skeleton, NULL, sc->r, p, out, eta, st, &err) != DP_OK)
 		fail_msg("dp_surface: %s", err.message);
 }
 
@@ -510,26 +510,26 @@ static void test_errors(void **state)
 	dp_cloud out = {0};
 	dp_error err = {0};
 	dp_context *ctx = tk_ref_context();
-	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, 0.0, NULL, &out, NULL, NULL, &err),
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, 0.0, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	assert_non_null(strstr(err.message, "surface"));
 	dp_cloud empty = {0};
-	assert_int_equal(dp_surface(ctx, &empty, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
+	assert_int_equal(dp_surface(ctx, &empty, &sc.samples, &sc.skeleton, NULL, sc.r, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_EMPTY);
 	sc.skeleton.n--;
-	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	sc.skeleton.n++;
 	dp_surface_params bad;
 	dp_surface_params_default(&bad);
 	bad.slide_reach_r = -1.0;
-	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, &bad, &out, NULL, NULL, &err),
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	bad.slide_reach_r = NAN;
-	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, &bad, &out, NULL, NULL, &err),
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	sc.samples.x[3] = NAN;
-	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, sc.r, NULL, &out, NULL, NULL, &err),
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	assert_null(out.x);
 	free_scene(&sc);

@@ -424,6 +424,14 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  * Settled points never move again: the smoothing pulls unsettled points
  * towards them, it does not move them (the paper smooths "unsettled inner
  * points"). Stops when every point has settled or after max_iters iterations.
+ *  5. flat faces (not in the paper; after the loop): a point that stopped by
+ *     slow-down takes at most the depth of a point settled by step 1 or 1b
+ *     that is reached through samples within 2.5 r of each other, each with a
+ *     normal within flat_angle_deg of that point's normal. A flat face
+ *     scanned from one side gives its middle no evidence, and slow-down
+ *     creeps in from the rim while the middle keeps sinking (measured on the
+ *     demo chair's seat, 4.2 r thick: 4.1 r deep at the rim, 10.5 r in the
+ *     middle, and its completed underside bulged; host/stages/flat.h).
  */
 typedef struct dp_sink_params {
 	double sigma_p;          /* static neighbourhood radius σp, in r; default 5 */
@@ -441,6 +449,7 @@ typedef struct dp_sink_params {
 	                            above); report.json writes a non-finite value as null */
 	double width_factor;     /* width bound, >= 0; 0 = off; default 2 (see 1c above; below 1.8 it can stop a
 	                            one-sided scan of a ball short of its centre) */
+	double flat_angle_deg;   /* flat faces (step 5), degrees in [0, 90); 0 = off; default 10 */
 } dp_sink_params;
 
 DP_API void dp_sink_params_default(dp_sink_params *p);
@@ -451,10 +460,21 @@ typedef struct dp_sink_stats {
 	size_t settled_medial;   /* settled by the medial test */
 	size_t settled_width;    /* settled by the width bound */
 	size_t settled_slow;     /* settled by slow-down */
+	size_t settled_flat;     /* settled by slow-down, then given a flat face's depth (step 5) */
 	size_t unsettled;        /* still moving when max_iters stopped the loop */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
 } dp_sink_stats;
+
+/* How a sinking point stopped (the steps above). */
+typedef enum dp_settle {
+	DP_SETTLE_NONE = 0,   /* still moving at the iteration cap */
+	DP_SETTLE_FRONT = 1,  /* met an opposing front (1) */
+	DP_SETTLE_MEDIAL = 2, /* passed the medial axis (1b) */
+	DP_SETTLE_WIDTH = 3,  /* as deep as its part is wide (1c) */
+	DP_SETTLE_SLOW = 4,   /* slowed down with its neighbours (2) */
+	DP_SETTLE_FLAT = 5    /* slowed down, then given its flat face's depth (5) */
+} dp_settle;
 
 /*
  * Sinks the points of `surface` (S, with outward unit normals) and writes the
@@ -462,7 +482,9 @@ typedef struct dp_sink_stats {
  * with S's normals copied (an inner point carries its surface point's normal).
  * Points still unsettled at the cap are written where they stopped and counted
  * in stats->unsettled. `anchors` is overwritten, not freed first, and owned by
- * the caller on success (dp_cloud_free); zeroed on error. params NULL means
+ * the caller on success (dp_cloud_free); zeroed on error. When `settled_by`
+ * is not NULL it receives a dp_settle value for each point (the caller's n
+ * bytes; unspecified on error). params NULL means
  * defaults; stats may be NULL. Uses only ctx (one thread at a time per
  * context); reports progress as ("sink", iteration, settled points).
  * Errors: DP_ERR_ARG (NULL arguments, no normals, r not a positive number,
@@ -470,7 +492,7 @@ typedef struct dp_sink_stats {
  * points), DP_ERR_NOMEM, DP_ERR_CL from the device.
  */
 DP_API dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *p, dp_cloud *anchors,
-		  dp_sink_stats *stats, dp_error *err);
+		  unsigned char *settled_by, dp_sink_stats *stats, dp_error *err);
 
 /* ---------------------------------------------------------- meso-skeleton */
 
@@ -608,6 +630,9 @@ typedef struct dp_surface_params {
 	double min_drop;          /* relative fall of the mean move that keeps it going, in [0, 1); default 0.05 */
 	double min_growth;        /* relative growth of the spacing, or fall of its variation, that keeps it
 	                             going, >= 0; default 0.005 */
+	double escape_margin_r;   /* inside test with `balls` (dp_surface): a point with input support Σθ < 1
+	                             deeper than this, in r, in a ball whose centre it faces moves out to the
+	                             ball's sphere; 0 = off; default 1 */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);
@@ -620,14 +645,36 @@ typedef struct dp_surface_stats {
 	size_t reattached;       /* inner ends moved to another skeleton point, over all iterations */
 	size_t normals_disagreeing; /* last iteration: PCA normals that the old normal would have signed against
 	                               the dpoint orientation m (the flips orient_by_dpoint prevents) */
+	size_t escaped;          /* points moved out of a ball by the inside test, over all iterations */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
 } dp_surface_stats;
 
 /*
+ * Balls known to lie inside the body, for the surface stage's inside test:
+ * ball j has centre (x[j], y[j], z[j]) and radius[j] (<= 0: no ball) and
+ * belongs to row j of the samples (n at most their count). dp_consolidate
+ * passes the sinking balls settled on evidence: centre the anchor, radius
+ * its depth below its sample, for DP_SETTLE_FRONT and DP_SETTLE_MEDIAL.
+ * A surface point with no input to hold it turns about its inner end and,
+ * past the end of its part of the skeleton, drifts through the body
+ * (measured on the two-view bunny at 4000 deep points: 161 points more than
+ * 0.01 diagonals inside, half of them with flipped normals). One deeper
+ * than escape_margin_r in a ball, with its normal towards the ball's centre,
+ * moves out to the ball's sphere along the ray from the centre and takes the
+ * current inner end of row j. Arrays are borrowed for the call.
+ */
+typedef struct dp_balls {
+	size_t n;
+	const float *x, *y, *z;
+	const float *radius;
+} dp_balls;
+
+/*
  * Consolidates the surface points: `input` = C (raw points, positions only),
  * `samples` = S with outward unit normals (the initial P), `skeleton` = Q, the
- * inner ends (same count as S). Writes P with its normals to `surface`
+ * inner ends (same count as S), `balls` NULL or the inside test's balls
+ * (above). Writes P with its normals to `surface`
  * (overwritten, not freed first; caller frees with dp_cloud_free; zeroed on
  * error) and, when `eta` is not NULL, η of every final p_i (input support; 1
  * where no input is in reach) into the caller's n floats. On success the
@@ -640,13 +687,13 @@ typedef struct dp_surface_stats {
  * for its duration.
  * Errors: DP_ERR_ARG (NULL arguments, samples without normals or with a zero
  * normal, a skeleton of another size, `surface` aliasing an input, non-finite
- * points or normals, r
+ * points or normals, more balls than samples or a non-finite ball, r
  * or a parameter out of range), DP_ERR_EMPTY (no samples or no input points),
  * DP_ERR_NOMEM, and the backend's errors.
  */
 DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
-		     double r, const dp_surface_params *params, dp_cloud *surface, float *eta,
-		     dp_surface_stats *stats, dp_error *err);
+		     const dp_balls *balls, double r, const dp_surface_params *params, dp_cloud *surface,
+		     float *eta, dp_surface_stats *stats, dp_error *err);
 
 /* --------------------------------------------------------------- pipeline */
 
@@ -661,7 +708,8 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * set level by level, by level_factor per level, to the requested count: each
  * level inserts surface points at midpoints of tangent-plane edges between
  * same-sided neighbours, every edge spanning a gap and an even random choice
- * of the others (an inner end and a normal interpolated from the two ends),
+ * of the others (the normal interpolated from the two ends, the inner end
+ * that of the end nearer the new point's normal line),
  * and relaxes the whole set for level_iters surface iterations at the level's
  * own spacing r. Work grows about linearly with the count and the count may
  * exceed the input's (upsampling, paper Fig. 15). The coarse level holds at
@@ -718,6 +766,7 @@ DP_API void dp_params_default(dp_params *p);
 typedef struct dp_result {
 	dp_cloud wlop;      /* S: WLOP samples with oriented normals (coarse level) */
 	dp_cloud anchors;   /* H: settled inner points after sinking (with S's normals) */
+	unsigned char *settled_by; /* anchors.n: how each anchor stopped (dp_settle) */
 	dp_cloud skeleton;  /* Q: the meso-skeleton, inner ends of the deep points */
 	dp_cloud surface;   /* P: consolidated, completed surface with normals */
 	float *eta;         /* n: input support η of each surface point (1 = no input near) */

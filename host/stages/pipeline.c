@@ -93,11 +93,25 @@ static void copy_rows(dp_cloud *dst, const dp_cloud *src, size_t n)
 	dst->n = n;
 }
 
+/* The inside test's balls (dp_balls): an anchor settled on evidence is the
+ * centre, its depth below its sample the radius; other anchors have none. */
+static void sinking_balls(const dp_result *res, float *radius)
+{
+	for (size_t i = 0; i < res->wlop.n; i++) {
+		dp_settle why = (dp_settle)res->settled_by[i];
+		float d[3] = {res->wlop.x[i] - res->anchors.x[i], res->wlop.y[i] - res->anchors.y[i],
+			      res->wlop.z[i] - res->anchors.z[i]};
+		radius[i] = why == DP_SETTLE_FRONT || why == DP_SETTLE_MEDIAL
+				    ? sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+				    : 0.0f;
+	}
+}
+
 /* Levels 1.. of the coarse-to-fine surface: insert, then relax at the new
  * spacing. `surface`, `skeleton` and `eta` have room for counts[levels-1]
  * rows and hold the coarse level. */
 static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params *params, const size_t *counts,
-			int levels, dp_result *res, dp_error *err)
+			int levels, const dp_balls *balls, dp_result *res, dp_error *err)
 {
 	dp_surface_params relax = params->surface;
 	relax.max_iters = params->refine.level_iters;
@@ -115,8 +129,8 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 					     err);
 		dp_surface_stats sst = {0};
 		if (st == DP_OK)
-			st = dp_surface(ctx, input, &res->surface, &res->skeleton, res->r, &relax, &out, res->eta, &sst,
-					err);
+			st = dp_surface(ctx, input, &res->surface, &res->skeleton, balls, res->r, &relax, &out, res->eta,
+					&sst, err);
 		if (st != DP_OK)
 			return st;
 		copy_rows(&res->surface, &out, out.n);
@@ -132,6 +146,7 @@ void dp_result_free(dp_result *r)
 		return;
 	dp_cloud_free(&r->wlop);
 	dp_cloud_free(&r->anchors);
+	free(r->settled_by);
 	dp_cloud_free(&r->skeleton);
 	dp_cloud_free(&r->surface);
 	free(r->eta);
@@ -171,6 +186,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	res->backend = dp_context_backend(ctx);
 	snprintf(res->device, sizeof res->device, "%s", dp_context_device_name(ctx));
 	size_t target = 0, counts[DP_MAX_LEVELS];
+	float *ball_radius = NULL;
 	dp_status st = target_count(input, params, &target, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "deep-point count");
@@ -213,7 +229,11 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		goto fail;
 	}
 
-	st = dp_sink(ctx, &res->wlop, res->r, &params->sink, &res->anchors, &res->sink_stats, err);
+	if (!(res->settled_by = dp_alloc_array(res->wlop.n, 1))) {
+		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", res->wlop.n);
+		goto fail;
+	}
+	st = dp_sink(ctx, &res->wlop, res->r, &params->sink, &res->anchors, res->settled_by, &res->sink_stats, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "sink");
 		goto fail;
@@ -234,8 +254,14 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu deep points", n);
 		goto fail;
 	}
-	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, res->r, &params->surface, &coarse, res->eta, &sst,
-			err);
+	if (!(ball_radius = dp_alloc_array(n0, sizeof(float)))) {
+		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu deep points", n0);
+		goto fail;
+	}
+	sinking_balls(res, ball_radius);
+	dp_balls balls = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius};
+	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, &balls, res->r, &params->surface, &coarse, res->eta,
+			&sst, err);
 	if (st == DP_OK) {
 		copy_rows(&res->surface, &coarse, n0);
 		copy_rows(&inner, &res->skeleton, n0);
@@ -250,7 +276,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "surface");
 		goto fail;
 	}
-	st = refine(ctx, input, params, counts, levels, res, err);
+	st = refine(ctx, input, params, counts, levels, &balls, res, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "refine");
 		goto fail;
@@ -263,10 +289,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	if ((st = dp_check_result_bounds(input, res, err)) != DP_OK)
 		goto fail;
 	res->seconds_total = dp_seconds() - t_start;
+	free(ball_radius);
 	return DP_OK;
 fail_normals:
 	in_stage(err, st, "normals");
 fail:
+	free(ball_radius);
 	dp_result_free(res);
 	return st;
 }

@@ -10,6 +10,7 @@
 #include "stages/refine.h"
 
 #include "core/common.h"
+#include "grid/hash.h"
 #include "knn/knn.h"
 
 #include <math.h>
@@ -45,42 +46,15 @@ static int longest_first(const void *pa, const void *pb)
 	return (x->b > y->b) - (x->b < y->b);
 }
 
-/* An incremental spatial hash of cubes of side `cell`: head[bucket] and
- * next[point] chain the points of a bucket. */
-typedef struct hash {
-	uint32_t *head, *next, mask;
-	float cell;
-} hash;
-
-#define HASH_NONE UINT32_MAX
-
-static uint32_t bucket(const hash *h, int64_t i, int64_t j, int64_t k)
-{
-	uint64_t v = (uint64_t)i * 73856093u ^ (uint64_t)j * 19349663u ^ (uint64_t)k * 83492791u;
-	return (uint32_t)(v & h->mask);
-}
-
-static int64_t cell_of(const hash *h, float v)
-{
-	return (int64_t)floorf(v / h->cell);
-}
-
-static void hash_insert(hash *h, const dp_cloud *c, uint32_t i)
-{
-	uint32_t b = bucket(h, cell_of(h, c->x[i]), cell_of(h, c->y[i]), cell_of(h, c->z[i]));
-	h->next[i] = h->head[b];
-	h->head[b] = i;
-}
-
 /* Whether any hashed point lies within h->cell of (x, y, z). */
-static int hash_near(const hash *h, const dp_cloud *c, float x, float y, float z)
+static int hash_near(const dp_hash *h, const dp_cloud *c, float x, float y, float z)
 {
-	int64_t ci = cell_of(h, x), cj = cell_of(h, y), ck = cell_of(h, z);
+	int64_t ci = dp_hash_cell(h, x), cj = dp_hash_cell(h, y), ck = dp_hash_cell(h, z);
 	float gap2 = h->cell * h->cell;
 	for (int64_t i = ci - 1; i <= ci + 1; i++)
 		for (int64_t j = cj - 1; j <= cj + 1; j++)
 			for (int64_t k = ck - 1; k <= ck + 1; k++)
-				for (uint32_t p = h->head[bucket(h, i, j, k)]; p != HASH_NONE; p = h->next[p]) {
+				for (uint32_t p = h->head[dp_hash_bucket(h, i, j, k)]; p != DP_HASH_NONE; p = h->next[p]) {
 					float dx = c->x[p] - x, dy = c->y[p] - y, dz = c->z[p] - z;
 					if (dx * dx + dy * dy + dz * dz < gap2)
 						return 1;
@@ -131,17 +105,33 @@ static void midpoint(const dp_cloud *s, uint32_t a, uint32_t b, float mid[3], fl
 		memcpy(nrm_out, nrm, sizeof nrm);
 }
 
+/* Squared distance of inner end j from the line through `mid` along `nrm`. */
+static float line_distance2(const dp_cloud *k, uint32_t j, const float mid[3], const float nrm[3])
+{
+	float v[3] = {mid[0] - k->x[j], mid[1] - k->y[j], mid[2] - k->z[j]};
+	float t = v[0] * nrm[0] + v[1] * nrm[1] + v[2] * nrm[2];
+	return fmaxf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2] - t * t, 0.0f);
+}
+
 /* Appends the midpoint of edge (a, b) as row i of both clouds, with the mean
- * normal; the inner end is the mean of the two inner ends. */
+ * normal. The inner end is one of the two ends' inner ends, the one nearer
+ * the new point's normal line, as re-attachment would choose: never their
+ * mean. The mean of two skeleton points lies off the skeleton wherever they
+ * are far apart (a ball's skeleton is one spot with a few stragglers a few r
+ * off), and every such mean is a new re-attachment target between them: on
+ * one-view spheres at 8000 deep points the inner ends of a third of the
+ * points walked out along such bridges within one level, and coverage ranged
+ * 0.86-0.99 over the scan's noise seeds (0.991-0.999 with this choice). */
 static void append_midpoint(dp_cloud *s, dp_cloud *k, uint32_t a, uint32_t b, size_t i)
 {
 	float mid[3], nrm[3];
 	midpoint(s, a, b, mid, nrm);
 	s->x[i] = mid[0], s->y[i] = mid[1], s->z[i] = mid[2];
 	s->nx[i] = nrm[0], s->ny[i] = nrm[1], s->nz[i] = nrm[2];
-	k->x[i] = 0.5f * (k->x[a] + k->x[b]);
-	k->y[i] = 0.5f * (k->y[a] + k->y[b]);
-	k->z[i] = 0.5f * (k->z[a] + k->z[b]);
+	uint32_t end = line_distance2(k, b, mid, nrm) < line_distance2(k, a, mid, nrm) ? b : a;
+	k->x[i] = k->x[end];
+	k->y[i] = k->y[end];
+	k->z[i] = k->z[end];
 	if (k->nx) {
 		k->nx[i] = nrm[0];
 		k->ny[i] = nrm[1];
@@ -203,13 +193,9 @@ static dp_status insert_pass(dp_cloud *s, dp_cloud *k, size_t target, size_t *ad
 	uint32_t *chosen = dp_alloc_array(cap, sizeof(uint32_t)), *order = dp_alloc_array(cap, sizeof(uint32_t));
 	/* the gap test's points: the existing ones, then the accepted midpoints */
 	dp_cloud pts = {0};
-	size_t buckets = 1;
-	while (buckets < 2 * all)
-		buckets <<= 1;
-	hash h = {dp_alloc_array(buckets, sizeof(uint32_t)), dp_alloc_array(all, sizeof(uint32_t)),
-		  (uint32_t)(buckets - 1), 0.0f};
+	dp_hash h = {0};
 	dp_status st = DP_OK;
-	if (!idx || !d2 || !edges || !chosen || !order || !h.head || !h.next ||
+	if (!idx || !d2 || !edges || !chosen || !order || dp_hash_alloc(&h, all, 0.0f, err) != DP_OK ||
 	    dp_cloud_alloc(&pts, all, 0, err) != DP_OK) {
 		st = dp_fail(err, DP_ERR_NOMEM, "refine: out of memory for %zu points", all);
 		goto out;
@@ -238,12 +224,11 @@ static dp_status insert_pass(dp_cloud *s, dp_cloud *k, size_t target, size_t *ad
 		goto out;
 	qsort(edges, ne, sizeof *edges, longest_first);
 	float long_len = (float)LONG_EDGE * edges[ne / 2].len;
-	memset(h.head, 0xff, buckets * sizeof(uint32_t));
 	memcpy(pts.x, s->x, n * sizeof(float));
 	memcpy(pts.y, s->y, n * sizeof(float));
 	memcpy(pts.z, s->z, n * sizeof(float));
 	for (size_t i = 0; i < n; i++)
-		hash_insert(&h, &pts, (uint32_t)i);
+		dp_hash_insert(&h, (uint32_t)i, pts.x[i], pts.y[i], pts.z[i]);
 	size_t count = 0, long_count = 0;
 	for (size_t e = 0; e < ne; e++) {
 		if (e > 0 && edges[e].a == edges[e - 1].a && edges[e].b == edges[e - 1].b)
@@ -254,7 +239,7 @@ static dp_status insert_pass(dp_cloud *s, dp_cloud *k, size_t target, size_t *ad
 		if (hash_near(&h, &pts, mid[0], mid[1], mid[2]))
 			continue;
 		pts.x[row] = mid[0], pts.y[row] = mid[1], pts.z[row] = mid[2];
-		hash_insert(&h, &pts, (uint32_t)row);
+		dp_hash_insert(&h, (uint32_t)row, mid[0], mid[1], mid[2]);
 		chosen[count++] = (uint32_t)e;
 		long_count += edges[e].len >= long_len;
 	}
@@ -271,8 +256,7 @@ out:
 	free(edges);
 	free(chosen);
 	free(order);
-	free(h.head);
-	free(h.next);
+	dp_hash_free(&h);
 	return st;
 }
 

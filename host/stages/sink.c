@@ -4,6 +4,7 @@
  * the anchors H. The math is stated once, in dpoints.h beside dp_sink; the
  * neighbour sums are the operators of host/ops/operators.h. */
 #include "backend/ops.h"
+#include "stages/flat.h"
 #include "stages/meet.h"
 #include "stages/width.h"
 #include "core/common.h"
@@ -28,6 +29,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->meet_shift_r = 2.0;
 	p->slow_margin_r = 1.5;
 	p->width_factor = 2.0;
+	p->flat_angle_deg = 10.0;
 }
 
 static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
@@ -60,6 +62,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 	if (!(p->width_factor >= 0.0 && isfinite(p->width_factor)))
 		return dp_fail(err, DP_ERR_ARG, "sink: width factor %g is not a finite number >= 0 (0 turns the bound off)",
 			       p->width_factor);
+	if (!(p->flat_angle_deg >= 0.0 && p->flat_angle_deg < 90.0))
+		return dp_fail(err, DP_ERR_ARG, "sink: flat-face angle %g degrees is not in [0, 90) (0 turns it off)",
+			       p->flat_angle_deg);
 	/* the widest scale becomes a grid cell, a float */
 	double widest = DP_WIDTH_MIN_SCALE_R * (double)(1u << (DP_WIDTH_SCALES - 1));
 	if (p->width_factor > 0.0 && !isfinite((float)(r * widest)))
@@ -108,7 +113,7 @@ typedef struct sink_state {
 	float *q[3];          /* the inner points: the anchors' position arrays */
 	float *a[NARRAYS];
 	float *block;
-	unsigned char *settled;
+	unsigned char *settled; /* a dp_settle per point (DP_SETTLE_NONE: still sinking) */
 	uint32_t *list;       /* the unsettled points of the current pass */
 	size_t nlist;
 	dp_grid inner, surface;
@@ -121,7 +126,7 @@ static void collect_unsettled(sink_state *st)
 {
 	st->nlist = 0;
 	for (size_t i = 0; i < st->n; i++)
-		if (!st->settled[i])
+		if (st->settled[i] == DP_SETTLE_NONE)
 			st->list[st->nlist++] = (uint32_t)i;
 }
 
@@ -179,7 +184,7 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
 			st->list[kept++] = i;
 			continue;
 		}
-		st->settled[i] = 1;
+		st->settled[i] = DP_SETTLE_FRONT;
 		if (meet_shift > 0.0f) {
 			/* the grid holds copies: moving q_i changes no other point's test */
 			float q[3] = {st->q[0][i], st->q[1][i], st->q[2][i]};
@@ -223,7 +228,7 @@ static void settle_past_medial(sink_state *st, float margin, size_t *settled)
 		float limit = d - margin;
 		if (d > margin &&
 		    dp_kdtree_any_within(&st->surface_tree, st->q[0][i], st->q[1][i], st->q[2][i], limit * limit)) {
-			st->settled[i] = 1;
+			st->settled[i] = DP_SETTLE_MEDIAL;
 			(*settled)++;
 		} else {
 			st->list[kept++] = i;
@@ -243,7 +248,7 @@ static void settle_by_width(sink_state *st, size_t *settled)
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
 		if (dp_width_too_deep(&st->width, i, depth_of(st, i))) {
-			st->settled[i] = 1;
+			st->settled[i] = DP_SETTLE_WIDTH;
 			(*settled)++;
 		} else {
 			st->list[kept++] = i;
@@ -267,7 +272,7 @@ static dp_status steps(dp_context *ctx, sink_state *st, int first_iteration, flo
 	 * only neighbours that stopped no shallower than depth - margin slow a
 	 * point down (dpoints.h, sinking step 2). */
 	for (size_t i = 0; i < st->n; i++)
-		st->a[STOP][i] = st->settled[i] ? depth_of(st, i) : INFINITY;
+		st->a[STOP][i] = st->settled[i] != DP_SETTLE_NONE ? depth_of(st, i) : INFINITY;
 	for (size_t j = 0; j < st->nlist; j++)
 		st->a[C_DEPTH][j] = depth_of(st, st->list[j]);
 	dp_grid_gather(&st->surface, st->a[MOVE], st->a[MOVE_S]);
@@ -285,7 +290,7 @@ static dp_status steps(dp_context *ctx, sink_state *st, int first_iteration, flo
 	for (size_t j = 0; j < st->nlist; j++) {
 		float t = st->a[C_OUT_X][j];
 		if (t < slow) {
-			st->settled[st->list[j]] = 1;
+			st->settled[st->list[j]] = DP_SETTLE_SLOW;
 			continue;
 		}
 		st->a[C_STEP][kept] = t;
@@ -407,11 +412,16 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			return rc;
 	}
 	stats->unsettled = st->n - settled_total;
-	return DP_OK;
+	if (p->flat_angle_deg > 0.0) {
+		const float *pos[3] = {s->x, s->y, s->z}, *nrm3[3] = {s->nx, s->ny, s->nz};
+		rc = dp_flat_cap(st->n, pos, nrm3, st->q, st->settled, r, p->flat_angle_deg, &stats->settled_flat, err);
+		stats->settled_slow -= stats->settled_flat;
+	}
+	return rc;
 }
 
 dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *params,
-		  dp_cloud *anchors, dp_sink_stats *stats, dp_error *err)
+		  dp_cloud *anchors, unsigned char *settled_by, dp_sink_stats *stats, dp_error *err)
 {
 	if (!anchors)
 		return dp_fail(err, DP_ERR_ARG, "sink: no output cloud");
@@ -445,7 +455,9 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 	st.q[1] = anchors->y;
 	st.q[2] = anchors->z;
 	st.block = dp_alloc_array(st.n, NARRAYS * sizeof(float));
-	st.settled = calloc(st.n, 1);
+	st.settled = settled_by ? settled_by : calloc(st.n, 1);
+	if (settled_by)
+		memset(settled_by, DP_SETTLE_NONE, st.n);
 	st.list = dp_alloc_array(st.n, sizeof *st.list);
 	if (!st.block || !st.settled || !st.list) {
 		rc = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", st.n);
@@ -456,7 +468,8 @@ dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_s
 		rc = run(ctx, &st, r, params, &local, err);
 	}
 	free(st.block);
-	free(st.settled);
+	if (st.settled != settled_by)
+		free(st.settled);
 	free(st.list);
 	dp_width_free(&st.width);
 	dp_kdtree_free(&st.surface_tree);

@@ -26,6 +26,7 @@
  * fraction of r); where there is no input it flattens the closure between
  * the scanned rims. */
 #include "backend/ops.h"
+#include "stages/balls.h"
 #include "core/common.h"
 #include "core/distinct.h"
 #include "core/eig3.h"
@@ -45,6 +46,9 @@
 /* Skeleton points in one cube of this side (in r) are one candidate of
  * re-attachment. */
 #define SKELETON_MERGE_R 0.05
+/* The inside test moves only points that input does not hold: Σθ of the
+ * input below this (no input point within about 1 r). */
+#define ESCAPE_MAX_SUPPORT 1.0f
 
 void dp_surface_params_default(dp_surface_params *p)
 {
@@ -63,6 +67,7 @@ void dp_surface_params_default(dp_surface_params *p)
 	p->window = 10;
 	p->min_drop = 0.05;
 	p->min_growth = 0.005;
+	p->escape_margin_r = 1.0;
 }
 
 /* Working arrays, one allocation each, reused by every iteration. */
@@ -70,6 +75,7 @@ enum {
 	A_PX, A_PY, A_PZ, A_NX, A_NY, A_NZ, A_QX, A_QY, A_QZ, A_LEN, A_GLEN,
 	A_ETA, A_SA, A_OX, A_OY, A_OZ, A_L, A_VAR, A_RX, A_RY, A_RZ, A_NN, A_D2, A_TX, A_TY, A_TZ,
 	A_MX, A_MY, A_MZ, A_SX, A_SY, A_SZ, A_DEPTH, A_GNX, A_GNY, A_GNZ, A_KX, A_KY, A_KZ,
+	A_EX, A_EY, A_EZ, A_EDIST,
 	A_COUNT
 };
 
@@ -77,6 +83,8 @@ typedef struct work {
 	float *a[A_COUNT];
 	float *cov;
 	int32_t *best;
+	int32_t *escape;        /* per point: the ball it leaves this iteration, or -1 */
+	dp_ball_set balls;
 	uint32_t *of;           /* skeleton merge: first point of each merged position */
 	double *move, *spacing; /* per iteration (in r), for the stopping test */
 	double *cv;             /* per iteration: variation of the NN spacing (std / mean) */
@@ -89,6 +97,8 @@ static void work_free(work *w)
 		free(w->a[k]);
 	free(w->cov);
 	free(w->best);
+	free(w->escape);
+	dp_ball_set_free(&w->balls);
 	free(w->of);
 	free(w->move);
 	free(w->spacing);
@@ -106,6 +116,7 @@ static dp_status work_alloc(work *w, size_t n, int max_iters, dp_error *err)
 		ok &= (w->a[k] = dp_alloc_array(n, sizeof(float))) != NULL;
 	ok &= (w->cov = dp_alloc_array(n, 6 * sizeof(float))) != NULL;
 	ok &= (w->best = dp_alloc_array(n, sizeof(int32_t))) != NULL;
+	ok &= (w->escape = dp_alloc_array(n, sizeof(int32_t))) != NULL;
 	ok &= (w->of = dp_alloc_array(n, sizeof(uint32_t))) != NULL;
 	ok &= (w->move = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
 	ok &= (w->spacing = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
@@ -125,9 +136,21 @@ static int finite3(size_t n, const float *x, const float *y, const float *z)
 	return 1;
 }
 
+static dp_status check_balls(const dp_balls *b, size_t n, dp_error *err)
+{
+	if (b->n > n)
+		return dp_fail(err, DP_ERR_ARG, "surface: %zu balls for %zu samples", b->n, n);
+	if (b->n && (!b->x || !b->y || !b->z || !b->radius))
+		return dp_fail(err, DP_ERR_ARG, "surface: the balls have no arrays");
+	for (size_t i = 0; i < b->n; i++)
+		if (!isfinite(b->x[i]) || !isfinite(b->y[i]) || !isfinite(b->z[i]) || !isfinite(b->radius[i]))
+			return dp_fail(err, DP_ERR_ARG, "surface: ball %zu is not finite", i);
+	return DP_OK;
+}
+
 static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const dp_cloud *samples,
-			    const dp_cloud *skeleton, double r, const dp_surface_params *p, const dp_cloud *surface,
-			    dp_error *err)
+			    const dp_cloud *skeleton, const dp_balls *balls, double r, const dp_surface_params *p,
+			    const dp_cloud *surface, dp_error *err)
 {
 	if (!ctx || !input || !samples || !skeleton || !surface)
 		return dp_fail(err, DP_ERR_ARG, "surface: NULL argument");
@@ -153,6 +176,7 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 	    !(p->slide_reach_r >= 0.0) || !isfinite(p->slide_reach_r * r) ||
 	    !(p->normal_radius_r > 0.0) || !(p->reattach_radius_r > 0.0) || p->max_iters < 0 || p->window < 1 ||
 	    !(p->min_drop >= 0.0 && p->min_drop < 1.0) || !(p->min_growth >= 0.0) ||
+	    !(p->escape_margin_r >= 0.0) || !isfinite(p->escape_margin_r * r) ||
 	    (p->prior != DP_SURFACE_PRIOR_VOLUME && p->prior != DP_SURFACE_PRIOR_MINIMAL) ||
 	    !isfinite(p->sigma_p * r) || !isfinite(p->normal_radius_r * r) || !isfinite(p->reattach_radius_r * r))
 		return dp_fail(err, DP_ERR_ARG, "surface: a parameter is out of range");
@@ -163,7 +187,7 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 		return dp_fail(err, DP_ERR_ARG, "surface: non-finite sample or normal");
 	if (!finite3(skeleton->n, skeleton->x, skeleton->y, skeleton->z))
 		return dp_fail(err, DP_ERR_ARG, "surface: non-finite skeleton point");
-	return DP_OK;
+	return balls ? check_balls(balls, samples->n, err) : DP_OK;
 }
 
 /* The normals in the surface grid's order, for the same-sided tests. */
@@ -388,6 +412,40 @@ static size_t update_normals(work *w, size_t n, double r, int orient_by_dpoint)
 	return disagreeing;
 }
 
+/* The inside test (balls.h): decides every move first, from the inner ends
+ * as they are, then moves. Returns how many moved. */
+static size_t escape(work *w, size_t n, double r, const dp_surface_params *p)
+{
+	float **a = w->a;
+	float margin = (float)(p->escape_margin_r * r);
+	const dp_ball_set *b = &w->balls;
+	for (size_t i = 0; i < n; i++) {
+		float dist = 0.0f;
+		int32_t k = a[A_ETA][i] - 1.0f < ESCAPE_MAX_SUPPORT
+				    ? dp_ball_set_deepest(b, a[A_PX][i], a[A_PY][i], a[A_PZ][i], a[A_NX][i], a[A_NY][i],
+							  a[A_NZ][i], margin, &dist)
+				    : -1;
+		w->escape[i] = dist > 0.0f ? k : -1;
+		a[A_EDIST][i] = dist;
+		if (w->escape[i] >= 0)
+			for (int d = 0; d < 3; d++)
+				a[A_EX + d][i] = a[A_QX + d][b->row[k]];
+	}
+	size_t moved = 0;
+	for (size_t i = 0; i < n; i++) {
+		int32_t k = w->escape[i];
+		if (k < 0)
+			continue;
+		float c[3] = {b->grid.x[k], b->grid.y[k], b->grid.z[k]}, f = b->radius[k] / a[A_EDIST][i];
+		for (int d = 0; d < 3; d++) {
+			a[A_PX + d][i] = c[d] + f * (a[A_PX + d][i] - c[d]);
+			a[A_QX + d][i] = a[A_EX + d][i];
+		}
+		moved++;
+	}
+	return moved;
+}
+
 /* Compares the last `window` iterations with the `window` before them (means,
  * as single iterations jitter by a few per cent): done when the mean move has
  * not fallen by min_drop, the spacing (the area per point is ∝ its square)
@@ -412,7 +470,8 @@ static int stop_test(const work *w, int t, const dp_surface_params *p)
 }
 
 static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
-		     double r, const dp_surface_params *p, work *w, dp_surface_stats *st, dp_error *err)
+		     const dp_balls *balls, double r, const dp_surface_params *p, work *w, dp_surface_stats *st,
+		     dp_error *err)
 {
 	size_t n = samples->n;
 	float **a = w->a;
@@ -437,6 +496,9 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	if ((s = dp_grid_build(&w->input, input->n, input->x, input->y, input->z, radius, err)) != DP_OK ||
 	    (s = skeleton_grid(w, skeleton, n, r, reattach_radius, err)) != DP_OK ||
 	    (s = dp_grid_build(&w->surface, n, a[A_PX], a[A_PY], a[A_PZ], surface_cell, err)) != DP_OK)
+		return s;
+	int escaping = balls && p->escape_margin_r > 0.0;
+	if (escaping && (s = dp_ball_set_build(&w->balls, balls, err)) != DP_OK)
 		return s;
 
 	dp_surface_data_args data = {
@@ -484,6 +546,8 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 			st->reattached += reattach(w, n);
 		}
 		w->move[t] = settle(w, n, r, p);
+		if (escaping)
+			st->escaped += escape(w, n, r, p);
 		if ((s = dp_grid_build(&w->surface, n, a[A_PX], a[A_PY], a[A_PZ], surface_cell, err)) != DP_OK)
 			return s;
 		gather_normals(w);
@@ -507,8 +571,8 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 }
 
 dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
-		     double r, const dp_surface_params *params, dp_cloud *surface, float *eta,
-		     dp_surface_stats *stats, dp_error *err)
+		     const dp_balls *balls, double r, const dp_surface_params *params, dp_cloud *surface,
+		     float *eta, dp_surface_stats *stats, dp_error *err)
 {
 	double t0 = dp_seconds();
 	dp_surface_params defaults;
@@ -518,7 +582,7 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	}
 	if (surface && surface != input && surface != samples && surface != skeleton)
 		memset(surface, 0, sizeof *surface);
-	dp_status s = check_args(ctx, input, samples, skeleton, r, params, surface, err);
+	dp_status s = check_args(ctx, input, samples, skeleton, balls, r, params, surface, err);
 	if (s != DP_OK)
 		return s;
 	size_t n = samples->n;
@@ -527,7 +591,7 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		return s;
 	dp_surface_stats st = {0};
 	double pairs0 = ctx->pair_evaluations;
-	s = run(ctx, input, samples, skeleton, r, params, &w, &st, err);
+	s = run(ctx, input, samples, skeleton, balls, r, params, &w, &st, err);
 	if (s == DP_OK)
 		s = dp_cloud_alloc(surface, n, 1, err);
 	if (s == DP_OK) {

@@ -1,0 +1,87 @@
+/* The depth of flat faces scanned from one side: see flat.h. */
+#include "stages/flat.h"
+
+#include "core/common.h"
+#include "knn/knn.h"
+
+#include <math.h>
+#include <stdlib.h>
+
+#define NO_ORIGIN UINT32_MAX
+
+static float depth(const float *const p[3], float *const q[3], size_t i)
+{
+	float d[3] = {q[0][i] - p[0][i], q[1][i] - p[1][i], q[2][i] - p[2][i]};
+	return sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+}
+
+dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
+		      unsigned char *settled_by, double r, double angle_deg, size_t *capped, dp_error *err)
+{
+	*capped = 0;
+	if (n < 2)
+		return DP_OK;
+	int k = n - 1 < DP_FLAT_NEIGHBOURS ? (int)(n - 1) : DP_FLAT_NEIGHBOURS;
+	int *idx = dp_alloc_array(n, (size_t)k * sizeof(int));
+	float *d2 = dp_alloc_array(n, (size_t)k * sizeof(float));
+	float *cap = dp_alloc_array(n, sizeof(float));
+	uint32_t *origin = dp_alloc_array(n, sizeof(uint32_t));
+	dp_knn knn = {0};
+	dp_status st = DP_OK;
+	if (!idx || !d2 || !cap || !origin) {
+		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
+		goto out;
+	}
+	if ((st = dp_knn_build(&knn, n, p[0], p[1], p[2], err)) != DP_OK ||
+	    (st = dp_knn_self(&knn, k, idx, d2, err)) != DP_OK)
+		goto out;
+	for (size_t i = 0; i < n; i++) {
+		int evidence = settled_by[i] == DP_SETTLE_FRONT || settled_by[i] == DP_SETTLE_MEDIAL;
+		cap[i] = evidence ? depth(p, q, i) : INFINITY;
+		origin[i] = evidence ? (uint32_t)i : NO_ORIGIN;
+	}
+	/* Sweeps until nothing changes: each passes the smallest depth at
+	 * least one link further, so a face D r across takes about D / FLAT_LINK_R
+	 * of them. */
+	float link2 = (float)(DP_FLAT_LINK_R * r * DP_FLAT_LINK_R * r);
+	float min_cos = (float)cos(angle_deg * M_PI / 180.0);
+	int changed = 1;
+	while (changed) {
+		changed = 0;
+		for (size_t i = 0; i < n; i++) {
+			for (int j = 0; j < k; j++) {
+				int nb = idx[i * (size_t)k + (size_t)j];
+				if (nb < 0 || !(d2[i * (size_t)k + (size_t)j] <= link2))
+					break; /* ascending: the rest are farther */
+				uint32_t o = origin[nb];
+				if (o == NO_ORIGIN || !(cap[nb] < cap[i]))
+					continue;
+				float c = normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
+				if (c < min_cos)
+					continue;
+				cap[i] = cap[nb];
+				origin[i] = o;
+				changed = 1;
+			}
+		}
+	}
+	for (size_t i = 0; i < n; i++) {
+		if (settled_by[i] != DP_SETTLE_SLOW || !isfinite(cap[i]))
+			continue;
+		float d = depth(p, q, i);
+		if (!(d > cap[i]))
+			continue;
+		float f = cap[i] / d;
+		for (int c = 0; c < 3; c++)
+			q[c][i] = p[c][i] + (q[c][i] - p[c][i]) * f;
+		settled_by[i] = DP_SETTLE_FLAT;
+		(*capped)++;
+	}
+out:
+	dp_knn_free(&knn);
+	free(idx);
+	free(d2);
+	free(cap);
+	free(origin);
+	return st;
+}

@@ -1,0 +1,48 @@
+/* The depth of flat faces scanned from one side (dpoints.h, sinking step 5;
+ * not in the paper).
+ *
+ * Opposing fronts, the medial test and the width bound stop a sinking point
+ * on geometric evidence. A flat face scanned from one side has none in its
+ * middle: no front opposes it, no ball touches it again, and a plate is wide.
+ * Its points stop only by slow-down, which creeps in from the face's rim one
+ * neighbourhood at a time while every point still sinks half a step per
+ * iteration, so the depth grows towards the middle. Measured on the demo
+ * chair's seat (53 r wide, 4.2 r thick, scanned from above): 4.1 r at the
+ * rim, 7.7 r 10-15 r in, 10.5 r in the middle, and the completed underside
+ * bulged below it.
+ *
+ * The rim is where the face's thickness shows: its points meet the fronts of
+ * the scanned edge faces. A face that stays flat from the rim inwards has no
+ * reason to be thicker than the rim says, so a point that stopped by
+ * slow-down takes at most the depth of an evidence-settled point (front or
+ * medial) reached through neighbours within FLAT_LINK_R r of each other, each
+ * with a normal within the angle of that point's normal. Measuring the
+ * angle from the evidence point, not from link to link, keeps a curved
+ * surface from passing the depth along: on a sphere of radius R the depth
+ * travels at most R sin(angle) and stays R. A box's face is no plate, and
+ * needs no exception: its side faces are tall, and its face's points settle
+ * by the medial test at every depth before slow-down reaches them. */
+#ifndef DP_STAGES_FLAT_H
+#define DP_STAGES_FLAT_H
+
+#include "dpoints.h"
+
+/* Samples closer than this (in r) pass the depth on; an even sampling has
+ * about 20 within it. */
+#define DP_FLAT_LINK_R 2.5
+/* Neighbours per sample considered for a link. */
+#define DP_FLAT_NEIGHBOURS 12
+
+/*
+ * Caps the depth |q_i - p_i| of every sample with settled_by[i] ==
+ * DP_SETTLE_SLOW at the smallest depth of a DP_SETTLE_FRONT or
+ * DP_SETTLE_MEDIAL sample reachable as described above with normals within
+ * angle_deg (> 0) of its own, moving q_i towards p_i, and marks it
+ * DP_SETTLE_FLAT. p: the n samples with unit normals; q: their inner points,
+ * updated in place. *capped receives how many moved. Errors: DP_ERR_NOMEM,
+ * and the neighbour search's.
+ */
+dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
+		      unsigned char *settled_by, double r, double angle_deg, size_t *capped, dp_error *err);
+
+#endif
