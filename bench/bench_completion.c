@@ -14,7 +14,9 @@
  *            bun180 in the ground-truth frame, at the default deep-point count;
  *   chair    the demo's chair (two views, 256 x 256 rays, noise 0.003), and
  *            its legs: whether each stays a tube in the surface and a curve
- *            in the skeleton (legs below);
+ *            in the skeleton (legs below); and its seat, scanned from above
+ *            only: how deep its top's samples sank, near the rim and in the
+ *            middle, against its half thickness;
  *   rods     the built-in thin parts (rods under 3 r thick) from two sides;
  *   statue   the paper's Fig. 12 statue at the defaults: stage times and caps;
  *   lamppost pcl/lamppost.pcd, a pole a few r thick: how far the surface and
@@ -72,14 +74,14 @@ static void print_stages(const dp_result *res)
 	printf(",\"samples\":%zu,\"r\":%.6g,\"levels\":%d,\"seconds\":{\"wlop\":%.3f,\"sink\":%.3f,\"skeleton\":%.3f,"
 	       "\"surface\":%.3f,\"total\":%.3f},\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
 	       "\"capped\":{\"wlop\":%s,\"sink\":%s,\"skeleton\":%s,\"surface\":%s},\"surface_pairs\":%.4g,"
-	       "\"normals_disagreeing\":%zu",
+	       "\"normals_disagreeing\":%zu,\"escaped\":%zu",
 	       res->surface.n, res->r, res->levels, res->wlop_stats.seconds, res->sink_stats.seconds,
 	       res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,
 	       res->wlop_stats.iterations, res->sink_stats.iterations, res->skeleton_stats.iterations,
 	       res->surface_stats.iterations, res->wlop_stats.converged ? "false" : "true",
 	       res->sink_stats.unsettled ? "true" : "false", res->skeleton_stats.converged ? "false" : "true",
 	       res->surface_stats.converged ? "false" : "true", res->surface_stats.pair_evaluations,
-	       res->surface_stats.normals_disagreeing);
+	       res->surface_stats.normals_disagreeing, res->surface_stats.escaped);
 }
 
 static void print_eval(const char *name, const dp_eval_result *e)
@@ -184,6 +186,60 @@ static void print_legs(const dp_result *res)
 	printf("],\"legs_apart\":%zu,\"leg_radius_r\":%.3f", apart, s.radius / r);
 }
 
+/* Samples of the seat's top within this (in r) of the seat's rim, and
+ * farther than SEAT_MIDDLE_R from it. */
+#define SEAT_RIM_R 5.0
+#define SEAT_MIDDLE_R 15.0
+
+static int by_value(const void *a, const void *b);
+
+/* The median of n values (sorted in place); 0 for none. */
+static double median(float *v, size_t n)
+{
+	if (n == 0)
+		return 0.0;
+	qsort(v, n, sizeof *v, by_value);
+	return v[n / 2];
+}
+
+/* How deep the anchors of the seat's top sank, in r: the samples facing up
+ * within a spacing of the top, near its rim and in its middle. The seat
+ * spans half its thickness down to its mid-plane, the depth sinking should
+ * reach. */
+static void print_seat(const dp_result *res)
+{
+	dp_shape s;
+	dp_error err = {0};
+	if (dp_shape_default("chair", &s, &err) != DP_OK)
+		return;
+	dp_chair_parts c;
+	dp_chair_layout(&s, &c);
+	const dp_cloud *w = &res->wlop, *a = &res->anchors;
+	float *rim = malloc(w->n * sizeof *rim), *middle = malloc(w->n * sizeof *middle);
+	size_t nrim = 0, nmiddle = 0;
+	double r = res->level[0].r;
+	for (size_t i = 0; rim && middle && i < w->n; i++) {
+		if (fabs(w->z[i] - c.seat_hi[2]) > r || w->nz[i] < 0.9f)
+			continue;
+		double edge = fmin(fmin(w->x[i] - c.seat_lo[0], c.seat_hi[0] - w->x[i]),
+				   fmin(w->y[i] - c.seat_lo[1], c.seat_hi[1] - w->y[i])) / r;
+		if (edge < 0.0)
+			continue;
+		float d[3] = {w->x[i] - a->x[i], w->y[i] - a->y[i], w->z[i] - a->z[i]};
+		float depth = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (float)r;
+		if (edge < SEAT_RIM_R)
+			rim[nrim++] = depth;
+		else if (edge > SEAT_MIDDLE_R)
+			middle[nmiddle++] = depth;
+	}
+	if (rim && middle)
+		printf(",\"seat\":{\"half_thickness_r\":%.2f,\"rim_depth_r\":%.2f,\"middle_depth_r\":%.2f,"
+		       "\"rim_samples\":%zu,\"middle_samples\":%zu}",
+		       0.5 * (c.seat_hi[2] - c.seat_lo[2]) / r, median(rim, nrim), median(middle, nmiddle), nrim, nmiddle);
+	free(rim);
+	free(middle);
+}
+
 /* The library's defaults with this run's --surface-iters. */
 static void bench_params(dp_params *p)
 {
@@ -229,8 +285,10 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	print_eval("surface", &es);
 	if (guessed.n >= 2 && dp_eval(mesh, &guessed, NULL, &eg, &err) == DP_OK)
 		print_eval("surface_unsupported", &eg);
-	if (!strcmp(name, "chair"))
+	if (!strcmp(name, "chair")) {
 		print_legs(&res);
+		print_seat(&res);
+	}
 	if (opts->save) {
 		char path[4096];
 		const char *what[3] = {"input", "surface", "skeleton"};
@@ -427,9 +485,10 @@ static int run_lamppost(dp_context *ctx)
 	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK && dp_knn_build(&knn, in.n, in.x, in.y, in.z, &err) == DP_OK) {
 		printf("{\"bench\":\"completion\",\"case\":\"lamppost\",\"raw\":%zu", in.n);
 		print_stages(&res);
-		printf(",\"sink_settled\":{\"front\":%zu,\"medial\":%zu,\"width\":%zu,\"slow\":%zu,\"unsettled\":%zu}",
+		printf(",\"sink_settled\":{\"front\":%zu,\"medial\":%zu,\"width\":%zu,\"slow\":%zu,\"flat\":%zu,"
+		       "\"unsettled\":%zu}",
 		       res.sink_stats.settled_front, res.sink_stats.settled_medial, res.sink_stats.settled_width,
-		       res.sink_stats.settled_slow, res.sink_stats.unsettled);
+		       res.sink_stats.settled_slow, res.sink_stats.settled_flat, res.sink_stats.unsettled);
 		if (print_to_input("surface", &knn, &res.surface, res.r, &err) == 0 &&
 		    print_to_input("skeleton", &knn, &res.skeleton, res.r, &err) == 0)
 			rc = 0;

@@ -235,11 +235,11 @@ static int run_chair(dp_context *ctx, int res_rays, size_t samples)
 		goto out;
 	printf("{\"bench\":\"quality_chair\",\"rays\":%d,\"raw\":%zu,\"samples\":%zu,\"r\":%.6g,\"iterations\":{\"wlop\":%d,"
 	       "\"sink\":%d,\"skeleton\":%d,\"surface\":%d},\"sink_settled\":{\"front\":%zu,\"medial\":%zu,"
-	       "\"width\":%zu,\"slow\":%zu,\"unsettled\":%zu},\"seconds\":%.3f}\n",
+	       "\"width\":%zu,\"slow\":%zu,\"flat\":%zu,\"unsettled\":%zu},\"seconds\":%.3f}\n",
 	       res_rays, scan.n, res.wlop.n, res.r, res.wlop_stats.iterations, res.sink_stats.iterations,
 	       res.skeleton_stats.iterations, res.surface_stats.iterations, res.sink_stats.settled_front,
 	       res.sink_stats.settled_medial, res.sink_stats.settled_width, res.sink_stats.settled_slow,
-	       res.sink_stats.unsettled,
+	       res.sink_stats.settled_flat, res.sink_stats.unsettled,
 	       res.seconds_total);
 	const char *names[] = {"input", "wlop", "surface", "surface_unsupported", "surface_supported"};
 	if (split_by_support(&res, 0, &part[0], &err) != DP_OK || split_by_support(&res, 1, &part[1], &err) != DP_OK)

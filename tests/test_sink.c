@@ -675,6 +675,111 @@ static void test_width_bound(void **state)
 	assert_true(without > 3.0 * with);
 }
 
+/* A plate scanned from above and from its sides, never from below, as the
+ * demo chair's seat: a top face PLATE_HALF r each way from its centre, four
+ * side faces PLATE_THICKNESS r tall. The rim meets the side faces' fronts;
+ * the middle has no evidence and stops only by slow-down. Returns the
+ * median depth of the top's samples within 5 r of the rim and farther than
+ * 12 r from it. */
+static int by_double(const void *a, const void *b)
+{
+	double x = *(const double *)a, y = *(const double *)b;
+	return (x > y) - (x < y);
+}
+
+#define PLATE_HALF 20
+#define PLATE_THICKNESS 4
+static void plate_depths(double flat_angle, double *rim, double *middle, dp_sink_stats *st,
+			 unsigned char *settled_by_middle)
+{
+	dp_rng rng;
+	dp_rng_seed(&rng, 12);
+	int side = 2 * PLATE_HALF + 1;
+	size_t top = (size_t)side * (size_t)side, n = top + 4 * (size_t)side * PLATE_THICKNESS;
+	dp_cloud c;
+	dp_error err = {0};
+	assert_int_equal(dp_cloud_alloc(&c, n, 1, &err), DP_OK);
+	size_t k = 0;
+	for (int i = 0; i < side; i++)
+		for (int j = 0; j < side; j++, k++) {
+			c.x[k] = (float)(i - PLATE_HALF + NOISE * dp_rng_normal(&rng));
+			c.y[k] = (float)(j - PLATE_HALF + NOISE * dp_rng_normal(&rng));
+			c.z[k] = (float)(NOISE * dp_rng_normal(&rng));
+			c.nx[k] = c.ny[k] = 0.0f;
+			c.nz[k] = 1.0f;
+		}
+	/* side faces, half a spacing in from the top's outermost row */
+	for (int f = 0; f < 4; f++)
+		for (int t = 0; t < side; t++)
+			for (int h = 1; h <= PLATE_THICKNESS; h++, k++) {
+				double along = t - PLATE_HALF, out = PLATE_HALF + 0.5;
+				double nx = f == 0 ? 1 : f == 1 ? -1 : 0, ny = f == 2 ? 1 : f == 3 ? -1 : 0;
+				c.x[k] = (float)(nx != 0.0 ? nx * out : along) + (float)(NOISE * dp_rng_normal(&rng));
+				c.y[k] = (float)(ny != 0.0 ? ny * out : along) + (float)(NOISE * dp_rng_normal(&rng));
+				c.z[k] = (float)(-h + 0.5) + (float)(NOISE * dp_rng_normal(&rng));
+				c.nx[k] = (float)nx;
+				c.ny[k] = (float)ny;
+				c.nz[k] = 0.0f;
+			}
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	p.flat_angle_deg = flat_angle;
+	dp_cloud h;
+	unsigned char *why = malloc(n);
+	assert_non_null(why);
+	assert_int_equal(dp_sink(tk_cl_context(), &c, 1.0, &p, &h, why, st, &err), DP_OK);
+	double *d_rim = malloc(top * sizeof(double)), *d_mid = malloc(top * sizeof(double));
+	assert_true(d_rim && d_mid);
+	size_t nr = 0, nm = 0;
+	*settled_by_middle = 0;
+	for (size_t i = 0; i < top; i++) {
+		double edge = PLATE_HALF - fmax(fabs(c.x[i]), fabs(c.y[i])), d = c.z[i] - h.z[i];
+		if (edge < 5.0)
+			d_rim[nr++] = d;
+		else if (edge > 12.0) {
+			d_mid[nm++] = d;
+			*settled_by_middle |= (unsigned char)(1u << why[i]);
+		}
+	}
+	qsort(d_rim, nr, sizeof(double), by_double);
+	qsort(d_mid, nm, sizeof(double), by_double);
+	*rim = d_rim[nr / 2];
+	*middle = d_mid[nm / 2];
+	printf("  plate %d r thick, flat angle %g: depth %.2f r at the rim, %.2f r in the middle; %zu settled flat\n",
+	       PLATE_THICKNESS, flat_angle, *rim, *middle, st->settled_flat);
+	free(d_rim);
+	free(d_mid);
+	free(why);
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+}
+
+static void test_flat_plate(void **state)
+{
+	(void)state;
+	dp_sink_stats on, off;
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	double rim_on, mid_on, rim_off, mid_off;
+	unsigned char why_on, why_off;
+	plate_depths(p.flat_angle_deg, &rim_on, &mid_on, &on, &why_on);
+	plate_depths(0.0, &rim_off, &mid_off, &off, &why_off);
+	/* without the step the middle creeps deeper than the plate is thick */
+	assert_true(mid_off > rim_off + 2.0);
+	assert_true(mid_off > PLATE_THICKNESS);
+	assert_int_equal(off.settled_flat, 0);
+	/* with it the middle is as deep as the rim, within the plate, and no
+	 * single shallow point at a crease sets the depth for the whole face */
+	assert_true(mid_on <= rim_on + 0.5);
+	assert_true(mid_on <= PLATE_THICKNESS);
+	assert_true(mid_on >= 0.25 * PLATE_THICKNESS);
+	assert_true(on.settled_flat > 0);
+	assert_true(why_on & (1u << DP_SETTLE_FLAT));
+	assert_int_equal(on.settled_front + on.settled_medial + on.settled_width + on.settled_slow + on.settled_flat +
+				 on.unsettled,
+			 (size_t)(2 * PLATE_HALF + 1) * (2 * PLATE_HALF + 1) + 4 * (2 * PLATE_HALF + 1) * PLATE_THICKNESS);
+}
+
 static void expect_error(const dp_cloud *c, double r, const dp_sink_params *p, dp_status want, const char *what)
 {
 	dp_cloud h = {.n = 99};
@@ -724,6 +829,13 @@ static void test_bad_input(void **state)
 	p.width_factor = NAN;
 	expect_error(&c, r, &p, DP_ERR_ARG, "NaN width factor");
 	dp_sink_params_default(&p);
+	p.flat_angle_deg = -1.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "negative flat-face angle");
+	p.flat_angle_deg = 90.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "flat-face angle 90");
+	p.flat_angle_deg = NAN;
+	expect_error(&c, r, &p, DP_ERR_ARG, "NaN flat-face angle");
+	dp_sink_params_default(&p);
 	/* inf (the library's form of the paper's rule) is the same as a huge
 	 * margin, on the device too */
 	dp_cloud paper_rule, huge;
@@ -772,6 +884,7 @@ int main(void)
 		cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_cap_reported),
 		cmocka_unit_test(test_width_bound),
+		cmocka_unit_test(test_flat_plate),
 		cmocka_unit_test(test_bad_input),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);

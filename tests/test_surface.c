@@ -502,6 +502,71 @@ static void test_slide_reach(void **state)
 }
 
 /* Bad arguments fail with one message, without touching the output. */
+/* The inside test: a complete noisy sphere, and one point inside it with
+ * no input near, its inner end above it and its normal towards the centre,
+ * as points that turned about their inner end end up. Without balls it
+ * stays inside; with the samples' balls (centre the inner end, radius the
+ * distance to the sample but no more than to the nearest input point, as
+ * dp_consolidate makes them) it moves out to the sphere and faces out. */
+static double escape_outcome(int with_balls, size_t *escaped)
+{
+	scene sc;
+	make_scene(&sc, 0, 0, 8000, 2000, 0.01 * SPHERE_R, 0.01 * SPHERE_R, 0.03 * SPHERE_R, 7);
+	size_t n = sc.samples.n;
+	float *radius = malloc(n * sizeof *radius), *d2 = malloc(n * sizeof *d2);
+	int *idx = malloc(n * sizeof *idx);
+	assert_true(radius && d2 && idx);
+	dp_knn knn;
+	dp_error err = {0};
+	assert_int_equal(dp_knn_build(&knn, sc.input.n, sc.input.x, sc.input.y, sc.input.z, &err), DP_OK);
+	assert_int_equal(dp_knn_query(&knn, n, sc.skeleton.x, sc.skeleton.y, sc.skeleton.z, 1, idx, d2, &err), DP_OK);
+	dp_knn_free(&knn);
+	for (size_t j = 0; j < n; j++) {
+		float d[3] = {sc.samples.x[j] - sc.skeleton.x[j], sc.samples.y[j] - sc.skeleton.y[j],
+			      sc.samples.z[j] - sc.skeleton.z[j]};
+		radius[j] = fminf(sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), sqrtf(d2[j]));
+	}
+	free(d2);
+	free(idx);
+	radius[0] = 0.0f;
+	sc.samples.x[0] = sc.samples.y[0] = 0.0f, sc.samples.z[0] = (float)(0.4 * SPHERE_R);
+	sc.samples.nx[0] = sc.samples.ny[0] = 0.0f, sc.samples.nz[0] = -1.0f;
+	sc.skeleton.x[0] = sc.skeleton.y[0] = 0.0f, sc.skeleton.z[0] = (float)(0.8 * SPHERE_R);
+	dp_balls balls = {sc.samples.n, sc.skeleton.x, sc.skeleton.y, sc.skeleton.z, radius};
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	dp_cloud out = {0};
+	dp_surface_stats st;
+	if (dp_surface(tk_cl_context(), &sc.input, &sc.samples, &sc.skeleton, with_balls ? &balls : NULL, sc.r, &p,
+		       &out, NULL, &st, &err) != DP_OK)
+		fail_msg("dp_surface: %s", err.message);
+	float *q = out.x;
+	double dist = fabs(sqrt((double)q[0] * q[0] + (double)out.y[0] * out.y[0] + (double)out.z[0] * out.z[0]) -
+			   SPHERE_R);
+	double facing = (out.x[0] * out.nx[0] + out.y[0] * out.ny[0] + out.z[0] * out.nz[0]) /
+			sqrt((double)out.x[0] * out.x[0] + (double)out.y[0] * out.y[0] + (double)out.z[0] * out.z[0]);
+	printf("  %s balls: the inside point ends %.3f R from the sphere, normal . radial %.2f, %zu escapes\n",
+	       with_balls ? "with" : "without", dist, facing, st.escaped);
+	*escaped = st.escaped;
+	if (with_balls)
+		assert_true(facing > 0.9);
+	free(radius);
+	dp_cloud_free(&out);
+	free_scene(&sc);
+	return dist;
+}
+
+static void test_escape(void **state)
+{
+	(void)state;
+	size_t with_count, without_count;
+	double with = escape_outcome(1, &with_count), without = escape_outcome(0, &without_count);
+	assert_true(without > 0.2 * SPHERE_R);
+	assert_int_equal(without_count, 0);
+	assert_true(with < 0.05 * SPHERE_R);
+	assert_true(with_count >= 1);
+}
+
 static void test_errors(void **state)
 {
 	(void)state;
@@ -528,6 +593,20 @@ static void test_errors(void **state)
 	bad.slide_reach_r = NAN;
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
+	dp_surface_params_default(&bad);
+	bad.escape_margin_r = -1.0;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	float radius[2] = {1.0f, NAN};
+	dp_balls too_many = {sc.samples.n + 1, sc.samples.x, sc.samples.y, sc.samples.z, sc.samples.x};
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, &too_many, sc.r, NULL, &out, NULL, NULL,
+				    &err),
+			 DP_ERR_ARG);
+	dp_balls nan_ball = {2, sc.samples.x, sc.samples.y, sc.samples.z, radius};
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, &nan_ball, sc.r, NULL, &out, NULL, NULL,
+				    &err),
+			 DP_ERR_ARG);
+	assert_non_null(strstr(err.message, "ball 1"));
 	sc.samples.x[3] = NAN;
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, NULL, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
@@ -541,7 +620,7 @@ int main(void)
 		cmocka_unit_test(test_sphere_complete),  cmocka_unit_test(test_sphere_one_sided),
 		cmocka_unit_test(test_torus_one_sided),  cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_priors),           cmocka_unit_test(test_slide_reach),
-		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_escape),           cmocka_unit_test(test_errors),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);
 	tk_teardown_contexts(NULL);

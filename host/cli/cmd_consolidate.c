@@ -157,6 +157,10 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "a sinking point stops once as deep as half the scale at which the samples around its surface point "
 		 "spread less than that scale / (2 * this): points leaving a thin part stop within a few of its widths "
 		 "(0 = off)", NULL, NULL},
+		{"--flat-angle", CLI_DOUBLE, &p->sink.flat_angle_deg,
+		 "a point that stopped only by slow-down takes at most the depth of a point settled on evidence reached "
+		 "through samples whose normals stay within this angle of that point's, degrees: a flat face scanned from "
+		 "one side is as thick as its rim shows (0 = off)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},
 		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},
@@ -192,6 +196,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--slide-reach", CLI_DOUBLE, &p->surface.slide_reach_r,
 		 "a surface point slides tangentially only while its nearest neighbour is within this, in r (0 = always): "
 		 "fewer stray points, less completion", NULL, NULL},
+		{"--escape-margin", CLI_DOUBLE, &p->surface.escape_margin_r,
+		 "a surface point with no input near that lies deeper than this, in r, in a sinking ball whose centre it "
+		 "faces moves out to the ball's sphere: no stray points inside the body (0 = off)", NULL, NULL},
 		{"--no-same-side", CLI_FLAG, &any_side,
 		 "surface sums over whole balls (the paper) instead of the point's own side", NULL, NULL},
 		{"--no-dpoint-orient", CLI_FLAG, &old_orient,

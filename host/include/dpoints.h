@@ -653,9 +653,13 @@ typedef struct dp_surface_stats {
 /*
  * Balls known to lie inside the body, for the surface stage's inside test:
  * ball j has centre (x[j], y[j], z[j]) and radius[j] (<= 0: no ball) and
- * belongs to row j of the samples (n at most their count). dp_consolidate
- * passes the sinking balls settled on evidence: centre the anchor, radius
- * its depth below its sample, for DP_SETTLE_FRONT and DP_SETTLE_MEDIAL.
+ * belongs to row j of the samples (n at most their count); a ball should
+ * hold no input point. dp_consolidate passes the sinking balls settled on
+ * evidence (DP_SETTLE_FRONT, DP_SETTLE_MEDIAL): centre the anchor, radius
+ * its depth below its sample, cut to its distance from the nearest input
+ * point (an anchor stopped a little off the medial axis reaches out of the
+ * body on its far side, and a point moved to its sphere would land beyond
+ * the data).
  * A surface point with no input to hold it turns about its inner end and,
  * past the end of its part of the skeleton, drifts through the body
  * (measured on the two-view bunny at 4000 deep points: 161 points more than

@@ -58,6 +58,7 @@ static void json_sink_params(dp_json_writer *w, const dp_sink_params *p)
 	dp_json_num(w, "meet_shift_r", p->meet_shift_r);
 	dp_json_num(w, "slow_margin_r", p->slow_margin_r);
 	dp_json_num(w, "width_factor", p->width_factor);
+	dp_json_num(w, "flat_angle_deg", p->flat_angle_deg);
 	dp_json_end_object(w);
 }
 
@@ -84,6 +85,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_str(w, "prior", p->prior == DP_SURFACE_PRIOR_MINIMAL ? "minimal" : "volume");
 	dp_json_num(w, "tangent_floor_r", p->tangent_floor_r);
 	dp_json_num(w, "slide_reach_r", p->slide_reach_r);
+	dp_json_num(w, "escape_margin_r", p->escape_margin_r);
 	dp_json_str(w, "data_term", p->data_along_normal ? "normal" : "full");
 	dp_json_num(w, "normal_radius_r", p->normal_radius_r);
 	dp_json_bool(w, "reattach", p->reattach);
@@ -155,6 +157,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "settled_medial", (long long)r->sink_stats.settled_medial);
 	dp_json_int(w, "settled_width", (long long)r->sink_stats.settled_width);
 	dp_json_int(w, "settled_slow", (long long)r->sink_stats.settled_slow);
+	dp_json_int(w, "settled_flat", (long long)r->sink_stats.settled_flat);
 	dp_json_int(w, "unsettled", (long long)r->sink_stats.unsettled);
 	dp_json_num(w, "seconds", r->sink_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->sink_stats.pair_evaluations);
@@ -172,6 +175,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_num(w, "last_mean_move_r", r->surface_stats.last_mean_move);
 	dp_json_num(w, "spacing_growth", r->surface_stats.spacing_growth);
 	dp_json_int(w, "reattached", (long long)r->surface_stats.reattached);
+	dp_json_int(w, "escaped", (long long)r->surface_stats.escaped);
 	dp_json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);
 	dp_json_num(w, "seconds", r->surface_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->surface_stats.pair_evaluations);

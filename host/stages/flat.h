@@ -32,6 +32,10 @@
 #define DP_FLAT_LINK_R 2.5
 /* Neighbours per sample considered for a link. */
 #define DP_FLAT_NEIGHBOURS 12
+/* An evidence point passes on the median depth of the evidence points
+ * within this (in r) that face its way, at most DP_FLAT_RIM_COUNT of them. */
+#define DP_FLAT_RIM_R 5.0
+#define DP_FLAT_RIM_COUNT 128
 
 /*
  * Caps the depth |q_i - p_i| of every sample with settled_by[i] ==

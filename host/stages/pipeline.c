@@ -74,6 +74,7 @@ static void add_level(dp_result *res, size_t points, double r, const dp_surface_
 	all->seconds += st->seconds;
 	all->pair_evaluations += st->pair_evaluations;
 	all->reattached += st->reattached;
+	all->escaped += st->escaped;
 	all->normals_disagreeing = st->normals_disagreeing;
 	all->last_mean_move = st->last_mean_move;
 }
@@ -94,17 +95,36 @@ static void copy_rows(dp_cloud *dst, const dp_cloud *src, size_t n)
 }
 
 /* The inside test's balls (dp_balls): an anchor settled on evidence is the
- * centre, its depth below its sample the radius; other anchors have none. */
-static void sinking_balls(const dp_result *res, float *radius)
+ * centre, and the radius its depth below its sample, cut to its distance
+ * from the nearest input point; other anchors have none. The settle tests
+ * stop an anchor a little off the medial axis, and a ball off the axis
+ * reaches out of the body on its far side by as much: a point moved to its
+ * sphere would land outside, beyond the data that would pull it back. */
+static dp_status sinking_balls(const dp_cloud *input, const dp_result *res, float *radius, dp_error *err)
 {
-	for (size_t i = 0; i < res->wlop.n; i++) {
+	size_t n = res->wlop.n;
+	dp_knn knn = {0};
+	int *idx = dp_alloc_array(n, sizeof(int));
+	float *d2 = dp_alloc_array(n, sizeof(float));
+	dp_status st = DP_OK;
+	if (!idx || !d2)
+		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu balls", n);
+	if (st == DP_OK)
+		st = dp_knn_build(&knn, input->n, input->x, input->y, input->z, err);
+	if (st == DP_OK)
+		st = dp_knn_query(&knn, n, res->anchors.x, res->anchors.y, res->anchors.z, 1, idx, d2, err);
+	for (size_t i = 0; st == DP_OK && i < n; i++) {
 		dp_settle why = (dp_settle)res->settled_by[i];
 		float d[3] = {res->wlop.x[i] - res->anchors.x[i], res->wlop.y[i] - res->anchors.y[i],
 			      res->wlop.z[i] - res->anchors.z[i]};
 		radius[i] = why == DP_SETTLE_FRONT || why == DP_SETTLE_MEDIAL
-				    ? sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2])
+				    ? fminf(sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]), sqrtf(d2[i]))
 				    : 0.0f;
 	}
+	dp_knn_free(&knn);
+	free(idx);
+	free(d2);
+	return st;
 }
 
 /* Levels 1.. of the coarse-to-fine surface: insert, then relax at the new
@@ -258,7 +278,8 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu deep points", n0);
 		goto fail;
 	}
-	sinking_balls(res, ball_radius);
+	if ((st = sinking_balls(input, res, ball_radius, err)) != DP_OK)
+		goto fail;
 	dp_balls balls = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius};
 	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, &balls, res->r, &params->surface, &coarse, res->eta,
 			&sst, err);

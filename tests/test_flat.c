@@ -1,0 +1,174 @@
+/* The flat-face depth of sinking (host/stages/flat.h) on inner points whose
+ * answer is known: a flat face takes the median depth of the evidence at its
+ * rim, a curved one does not pass it on beyond the angle, and only points
+ * that stopped by slow-down ever move, never deeper. */
+#include "testkit.h"
+
+#include "stages/flat.h"
+
+#include <math.h>
+#include <stdio.h>
+#include <stdlib.h>
+
+/* n samples with normals and inner points at `depth` below them. */
+typedef struct pts {
+	size_t n;
+	float *p[3], *nrm[3], *q[3];
+	unsigned char *why;
+} pts;
+
+static void pts_alloc(pts *s, size_t n)
+{
+	s->n = n;
+	for (int c = 0; c < 3; c++) {
+		s->p[c] = calloc(n, sizeof(float));
+		s->nrm[c] = calloc(n, sizeof(float));
+		s->q[c] = calloc(n, sizeof(float));
+		assert_true(s->p[c] && s->nrm[c] && s->q[c]);
+	}
+	s->why = calloc(n, 1);
+	assert_non_null(s->why);
+}
+
+static void pts_free(pts *s)
+{
+	for (int c = 0; c < 3; c++) {
+		free(s->p[c]);
+		free(s->nrm[c]);
+		free(s->q[c]);
+	}
+	free(s->why);
+}
+
+static void set(pts *s, size_t i, const double p[3], const double n[3], double depth, dp_settle why)
+{
+	for (int c = 0; c < 3; c++) {
+		s->p[c][i] = (float)p[c];
+		s->nrm[c][i] = (float)n[c];
+		s->q[c][i] = (float)(p[c] - depth * n[c]);
+	}
+	s->why[i] = (unsigned char)why;
+}
+
+static double depth(const pts *s, size_t i)
+{
+	double d = 0.0;
+	for (int c = 0; c < 3; c++)
+		d += ((double)s->p[c][i] - s->q[c][i]) * ((double)s->p[c][i] - s->q[c][i]);
+	return sqrt(d);
+}
+
+static size_t run(pts *s, double angle)
+{
+	size_t capped = 0;
+	dp_error err = {0};
+	const float *p[3] = {s->p[0], s->p[1], s->p[2]}, *n[3] = {s->nrm[0], s->nrm[1], s->nrm[2]};
+	if (dp_flat_cap(s->n, p, n, s->q, s->why, 1.0, angle, &capped, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	return capped;
+}
+
+/* A 41 x 41 face at spacing 1 facing up. Its outer three rings settled on
+ * evidence at depths 1, 2 and 3 (outermost 1), as a rim's points meet the
+ * side faces' fronts, except for one point at 0.1; the rest stopped by
+ * slow-down at 8, and one by the width bound at 9. */
+static void test_plate(void **state)
+{
+	(void)state;
+	pts s;
+	int side = 41;
+	pts_alloc(&s, (size_t)side * side);
+	double up[3] = {0, 0, 1};
+	size_t width_point = 0, shallow = 0;
+	for (int i = 0; i < side; i++)
+		for (int j = 0; j < side; j++) {
+			size_t k = (size_t)i * side + (size_t)j;
+			int ring = i < j ? i : j;
+			ring = ring < side - 1 - i ? ring : side - 1 - i;
+			ring = ring < side - 1 - j ? ring : side - 1 - j;
+			double p[3] = {i, j, 0};
+			if (ring < 3)
+				set(&s, k, p, up, ring + 1.0, DP_SETTLE_FRONT);
+			else
+				set(&s, k, p, up, 8.0, DP_SETTLE_SLOW);
+			if (i == 20 && j == 21) {
+				set(&s, k, p, up, 9.0, DP_SETTLE_WIDTH);
+				width_point = k;
+			}
+			if (i == 0 && j == 20) {
+				set(&s, k, p, up, 0.1, DP_SETTLE_MEDIAL);
+				shallow = k;
+			}
+		}
+	size_t capped = run(&s, 10.0), slow = 0;
+	for (size_t k = 0; k < s.n; k++) {
+		if (k == width_point || s.why[k] == DP_SETTLE_FRONT || s.why[k] == DP_SETTLE_MEDIAL)
+			continue;
+		slow++;
+		assert_int_equal(s.why[k], DP_SETTLE_FLAT);
+		/* the median of 1, 2, 3 over the rim, not the one shallow point */
+		assert_true(depth(&s, k) >= 1.0 && depth(&s, k) <= 3.0);
+		/* moved towards its sample, along its line */
+		assert_true(fabsf(s.q[0][k] - s.p[0][k]) < 1e-5f && fabsf(s.q[1][k] - s.p[1][k]) < 1e-5f);
+	}
+	printf("  plate: %zu of %zu slow points capped, middle at %.2f\n", capped, slow, depth(&s, 20 * 41 + 20));
+	assert_int_equal(capped, slow);
+	assert_true(fabs(depth(&s, width_point) - 9.0) < 1e-5);
+	assert_int_equal(s.why[width_point], DP_SETTLE_WIDTH);
+	assert_true(fabs(depth(&s, shallow) - 0.1) < 1e-5);
+	pts_free(&s);
+}
+
+/* A sphere of radius 20 at spacing about 1, normals out, every point slowed
+ * at depth 20 but one at the north pole settled at depth 2. Only points
+ * whose normal is within the angle of the pole's take its depth. */
+static void test_curved(void **state)
+{
+	(void)state;
+	pts s;
+	double radius = 20.0, angle = 10.0;
+	size_t n = (size_t)(4.0 * M_PI * radius * radius);
+	pts_alloc(&s, n);
+	double golden = M_PI * (3.0 - sqrt(5.0));
+	for (size_t i = 0; i < n; i++) {
+		double z = 1.0 - 2.0 * ((double)i + 0.5) / (double)n, rho = sqrt(1.0 - z * z), a = golden * (double)i;
+		double nrm[3] = {rho * cos(a), rho * sin(a), z}, p[3] = {radius * nrm[0], radius * nrm[1], radius * nrm[2]};
+		set(&s, i, p, nrm, i == 0 ? 2.0 : radius, i == 0 ? DP_SETTLE_FRONT : DP_SETTLE_SLOW);
+	}
+	size_t capped = run(&s, angle);
+	double cos_angle = cos(angle * M_PI / 180.0);
+	for (size_t i = 1; i < n; i++) {
+		double c = (double)s.nrm[0][i] * s.nrm[0][0] + (double)s.nrm[1][i] * s.nrm[1][0] +
+			   (double)s.nrm[2][i] * s.nrm[2][0];
+		if (c < cos_angle - 1e-6)
+			assert_true(fabs(depth(&s, i) - radius) < 1e-4);
+		if (s.why[i] == DP_SETTLE_FLAT)
+			assert_true(c >= cos_angle - 1e-6 && fabs(depth(&s, i) - 2.0) < 1e-4);
+	}
+	printf("  sphere of %zu points: %zu capped within %g degrees of the pole\n", n, capped, angle);
+	assert_true(capped > 0 && capped < 60);
+	pts_free(&s);
+}
+
+/* Nothing to do: too few points, no evidence, or all evidence. */
+static void test_nothing(void **state)
+{
+	(void)state;
+	pts s;
+	pts_alloc(&s, 1);
+	double p[3] = {0, 0, 0}, n[3] = {0, 0, 1};
+	set(&s, 0, p, n, 5.0, DP_SETTLE_SLOW);
+	assert_int_equal(run(&s, 10.0), 0);
+	assert_int_equal(s.why[0], DP_SETTLE_SLOW);
+	pts_free(&s);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_plate),
+		cmocka_unit_test(test_curved),
+		cmocka_unit_test(test_nothing),
+	};
+	return cmocka_run_group_tests(tests, NULL, NULL);
+}
