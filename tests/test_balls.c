@@ -18,7 +18,7 @@ static void build(dp_ball_set *set)
 {
 	dp_balls in = {5, BX, ZERO, ZERO, BR};
 	dp_error err = {0};
-	if (dp_ball_set_build(set, &in, &err) != DP_OK)
+	if (dp_ball_set_build(set, &in, 0.0f, &err) != DP_OK)
 		fail_msg("%s", err.message);
 }
 
@@ -41,6 +41,15 @@ static void test_prune(void **state)
 	assert_int_equal(rows, (1 << 0) | (1 << 4));
 	dp_ball_set_free(&set);
 	assert_int_equal(set.n, 0);
+	/* the small ball sticks out by 5; a slack of 5 takes it in */
+	dp_balls in = {5, BX, ZERO, ZERO, BR};
+	dp_error err = {0};
+	assert_int_equal(dp_ball_set_build(&set, &in, 4.9f, &err), DP_OK);
+	assert_int_equal(set.n, 2);
+	assert_int_equal(dp_ball_set_build(&set, &in, 5.0f, &err), DP_OK);
+	assert_int_equal(set.n, 1);
+	assert_int_equal(set.row[0], 0);
+	dp_ball_set_free(&set);
 }
 
 static void test_deepest(void **state)
@@ -75,7 +84,7 @@ static void test_empty(void **state)
 	dp_balls in = {5, BX, ZERO, ZERO, ZERO};
 	dp_ball_set set = {0};
 	dp_error err = {0};
-	assert_int_equal(dp_ball_set_build(&set, &in, &err), DP_OK);
+	assert_int_equal(dp_ball_set_build(&set, &in, 0.0f, &err), DP_OK);
 	assert_int_equal(set.n, 0);
 	float dist;
 	assert_int_equal(dp_ball_set_deepest(&set, 0.0f, 0.0f, 0.0f, 1.0f, 0.0f, 0.0f, 0.0f, &dist), -1);

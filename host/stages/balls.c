@@ -22,9 +22,9 @@ static int largest_first(const void *pa, const void *pb)
 }
 
 /* Whether a kept ball (hashed, cells no smaller than the largest radius)
- * contains ball `row` of `in`. Kept balls are no smaller, so a container's
- * centre lies within one radius, in the 27 cells around. */
-static int contained(const dp_hash *h, const dp_balls *in, const uint32_t *kept_row, uint32_t row)
+ * contains ball `row` of `in`, grown by `slack`. Kept balls are no smaller,
+ * so a container's centre lies within one radius, in the 27 cells around. */
+static int contained(const dp_hash *h, const dp_balls *in, const uint32_t *kept_row, uint32_t row, float slack)
 {
 	float x = in->x[row], y = in->y[row], z = in->z[row], rad = in->radius[row];
 	int64_t ci = dp_hash_cell(h, x), cj = dp_hash_cell(h, y), ck = dp_hash_cell(h, z);
@@ -34,13 +34,13 @@ static int contained(const dp_hash *h, const dp_balls *in, const uint32_t *kept_
 				for (uint32_t p = h->head[dp_hash_bucket(h, i, j, k)]; p != DP_HASH_NONE; p = h->next[p]) {
 					uint32_t o = kept_row[p];
 					float dx = in->x[o] - x, dy = in->y[o] - y, dz = in->z[o] - z;
-					if (sqrtf(dx * dx + dy * dy + dz * dz) + rad <= in->radius[o])
+					if (sqrtf(dx * dx + dy * dy + dz * dz) + rad <= in->radius[o] + slack)
 						return 1;
 				}
 	return 0;
 }
 
-dp_status dp_ball_set_build(dp_ball_set *set, const dp_balls *in, dp_error *err)
+dp_status dp_ball_set_build(dp_ball_set *set, const dp_balls *in, float slack, dp_error *err)
 {
 	dp_ball_set_free(set);
 	size_t m = 0;
@@ -68,7 +68,7 @@ dp_status dp_ball_set_build(dp_ball_set *set, const dp_balls *in, dp_error *err)
 	size_t kept = 0;
 	for (size_t i = 0; i < m; i++) {
 		uint32_t row = c[i].row;
-		if (contained(&h, in, kept_row, row))
+		if (contained(&h, in, kept_row, row, slack))
 			continue;
 		kept_row[kept] = row;
 		dp_hash_insert(&h, (uint32_t)kept, in->x[row], in->y[row], in->z[row]);

@@ -49,6 +49,9 @@
 /* The inside test moves only points that input does not hold: Σθ of the
  * input below this (no input point within about 1 r). */
 #define ESCAPE_MAX_SUPPORT 1.0f
+/* Balls within this (in r) of lying inside another are left out of the
+ * inside test (balls.h). */
+#define BALL_SLACK_R 0.5
 
 void dp_surface_params_default(dp_surface_params *p)
 {
@@ -498,7 +501,7 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	    (s = dp_grid_build(&w->surface, n, a[A_PX], a[A_PY], a[A_PZ], surface_cell, err)) != DP_OK)
 		return s;
 	int escaping = balls && p->escape_margin_r > 0.0;
-	if (escaping && (s = dp_ball_set_build(&w->balls, balls, err)) != DP_OK)
+	if (escaping && (s = dp_ball_set_build(&w->balls, balls, (float)(BALL_SLACK_R * r), err)) != DP_OK)
 		return s;
 
 	dp_surface_data_args data = {
