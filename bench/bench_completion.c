@@ -138,14 +138,22 @@ static int nearest_leg(const dp_chair_parts *c, float x, float y, double *dist)
 	return best;
 }
 
+/* The demo chair's shape and parts: 1, or 0 when the library lacks it. */
+static int demo_chair(dp_shape *s, dp_chair_parts *c)
+{
+	dp_error err = {0};
+	if (dp_shape_default("chair", s, &err) != DP_OK)
+		return 0;
+	dp_chair_layout(s, c);
+	return 1;
+}
+
 static void print_legs(const dp_result *res)
 {
 	dp_shape s;
-	dp_error err = {0};
-	if (dp_shape_default("chair", &s, &err) != DP_OK)
-		return;
 	dp_chair_parts c;
-	dp_chair_layout(&s, &c);
+	if (!demo_chair(&s, &c))
+		return;
 	double lo = LEG_ZONE_LO * s.length, hi = LEG_ZONE_HI * s.length, r = res->r;
 	double tube[4] = {0}, axis[4] = {0};
 	size_t nsurf[4] = {0}, nskel[4] = {0}, apart = 0;
@@ -209,11 +217,9 @@ static double median(float *v, size_t n)
 static void print_seat(const dp_result *res)
 {
 	dp_shape s;
-	dp_error err = {0};
-	if (dp_shape_default("chair", &s, &err) != DP_OK)
-		return;
 	dp_chair_parts c;
-	dp_chair_layout(&s, &c);
+	if (!demo_chair(&s, &c))
+		return;
 	const dp_cloud *w = &res->wlop, *a = &res->anchors;
 	float *rim = malloc(w->n * sizeof *rim), *middle = malloc(w->n * sizeof *middle);
 	size_t nrim = 0, nmiddle = 0;

@@ -150,7 +150,39 @@ static void test_curved(void **state)
 	pts_free(&s);
 }
 
-/* Nothing to do: too few points, no evidence, or all evidence. */
+/* Five samples 2 apart on a bend: A (depth 3, normal tilted 12 degrees)
+ * and B (depth 2, 0 degrees) on evidence, and between them j (6 degrees),
+ * x (3) and, off j, i (14 degrees, within the angle of A's normal, not of
+ * B's). B's depth reaches j through x, A's directly. The smaller travels
+ * first: j and x take 2, and i, which B's depth may not reach, keeps its own
+ * 8, in either order of the samples (a pass in index order gave i A's 3 when
+ * it came after j and nothing when it came before). */
+static void test_order_bend(void **state)
+{
+	(void)state;
+	static const char *names[2] = {"jxiAB", "ixjAB"};
+	for (int o = 0; o < 2; o++) {
+		pts s;
+		pts_alloc(&s, 5);
+		for (int k = 0; k < 5; k++) {
+			char c = names[o][k];
+			double x = c == 'A' ? -2 : c == 'x' ? 2 : c == 'B' ? 4 : 0, y = c == 'i' ? 2 : 0;
+			double tilt = (c == 'A' ? 12 : c == 'j' ? 6 : c == 'x' ? 3 : c == 'B' ? 0 : 14) * M_PI / 180.0;
+			double p[3] = {x, y, 0.0}, nrm[3] = {sin(tilt), 0.0, cos(tilt)};
+			double d = c == 'A' ? 3.0 : c == 'B' ? 2.0 : 8.0;
+			set(&s, (size_t)k, p, nrm, d, c == 'A' || c == 'B' ? DP_SETTLE_FRONT : DP_SETTLE_SLOW);
+		}
+		assert_int_equal(run(&s, 10.0), 2);
+		for (int k = 0; k < 5; k++) {
+			char c = names[o][k];
+			double want = c == 'A' ? 3.0 : c == 'i' ? 8.0 : 2.0;
+			assert_true(fabs(depth(&s, (size_t)k) - want) < 1e-5);
+		}
+		pts_free(&s);
+	}
+}
+
+/* Nothing to do: too few points, no evidence, or evidence only. */
 static void test_nothing(void **state)
 {
 	(void)state;
@@ -161,6 +193,17 @@ static void test_nothing(void **state)
 	assert_int_equal(run(&s, 10.0), 0);
 	assert_int_equal(s.why[0], DP_SETTLE_SLOW);
 	pts_free(&s);
+	for (int evidence = 0; evidence < 2; evidence++) {
+		pts_alloc(&s, 100);
+		for (size_t i = 0; i < 100; i++) {
+			double q[3] = {(double)(i % 10), (double)(i / 10), 0.0};
+			set(&s, i, q, n, 1.0 + (double)(i % 3), evidence ? DP_SETTLE_MEDIAL : DP_SETTLE_SLOW);
+		}
+		assert_int_equal(run(&s, 10.0), 0);
+		for (size_t i = 0; i < 100; i++)
+			assert_true(fabs(depth(&s, i) - (1.0 + (double)(i % 3))) < 1e-6);
+		pts_free(&s);
+	}
 }
 
 int main(void)
@@ -168,6 +211,7 @@ int main(void)
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_plate),
 		cmocka_unit_test(test_curved),
+		cmocka_unit_test(test_order_bend),
 		cmocka_unit_test(test_nothing),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

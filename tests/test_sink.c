@@ -675,18 +675,18 @@ static void test_width_bound(void **state)
 	assert_true(without > 3.0 * with);
 }
 
-/* A plate scanned from above and from its sides, never from below, as the
- * demo chair's seat: a top face PLATE_HALF r each way from its centre, four
- * side faces PLATE_THICKNESS r tall. The rim meets the side faces' fronts;
- * the middle has no evidence and stops only by slow-down. Returns the
- * median depth of the top's samples within 5 r of the rim and farther than
- * 12 r from it. */
 static int by_double(const void *a, const void *b)
 {
 	double x = *(const double *)a, y = *(const double *)b;
 	return (x > y) - (x < y);
 }
 
+/* A plate scanned from above and from its sides, never from below, as the
+ * demo chair's seat: a top face PLATE_HALF r each way from its centre, four
+ * side faces PLATE_THICKNESS r tall. The rim meets the side faces' fronts;
+ * the middle has no evidence and stops only by slow-down. Returns the
+ * median depth of the top's samples within 5 r of the rim and farther than
+ * 12 r from it. */
 #define PLATE_HALF 20
 #define PLATE_THICKNESS 4
 static void plate_depths(double flat_angle, double *rim, double *middle, dp_sink_stats *st,

@@ -158,9 +158,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "spread less than that scale / (2 * this): points leaving a thin part stop within a few of its widths "
 		 "(0 = off)", NULL, NULL},
 		{"--flat-angle", CLI_DOUBLE, &p->sink.flat_angle_deg,
-		 "a point that stopped only by slow-down takes at most the depth of a point settled on evidence reached "
-		 "through samples whose normals stay within this angle of that point's, degrees: a flat face scanned from "
-		 "one side is as thick as its rim shows (0 = off)", NULL, NULL},
+		 "a point that stopped only by slow-down takes at most its flat face's depth: the median depth of the "
+		 "evidence-settled points at the face's rim, passed on through samples whose normals stay within this "
+		 "angle, degrees: a flat face scanned from one side is as thick as its rim shows (0 = off)", NULL, NULL},
 		{"--sigma-q", CLI_DOUBLE, &p->skeleton.sigma_q, "skeleton PCA neighbourhood sigma_q, in r", NULL,
 		 NULL},
 		{"--eps", CLI_DOUBLE, &p->skeleton.eps, "semi-axis constant epsilon", NULL, NULL},

@@ -20,7 +20,8 @@ typedef struct dp_hash {
 } dp_hash;
 
 /* Room for points 0..capacity-1 and at least 2 × capacity buckets, empty.
- * DP_ERR_NOMEM (h zeroed). */
+ * `cell` must keep |coordinate| / cell well inside int64 (callers clamp it).
+ * DP_ERR_ARG (2^31 points or more), DP_ERR_NOMEM; h zeroed on error. */
 dp_status dp_hash_alloc(dp_hash *h, size_t capacity, float cell, dp_error *err);
 void dp_hash_free(dp_hash *h);
 

@@ -425,9 +425,10 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  * towards them, it does not move them (the paper smooths "unsettled inner
  * points"). Stops when every point has settled or after max_iters iterations.
  *  5. flat faces (not in the paper; after the loop): a point that stopped by
- *     slow-down takes at most the depth of a point settled by step 1 or 1b
- *     that is reached through samples within 2.5 r of each other, each with a
- *     normal within flat_angle_deg of that point's normal. A flat face
+ *     slow-down takes at most the depth of its face's rim: the median depth
+ *     of the points settled by step 1 or 1b within 5 r of a point so settled
+ *     and facing its way, passed on through samples within 2.5 r of each
+ *     other whose normals stay within flat_angle_deg of that point's. A flat face
  *     scanned from one side gives its middle no evidence, and slow-down
  *     creeps in from the rim while the middle keeps sinking (measured on the
  *     demo chair's seat, 4.2 r thick: 4.1 r deep at the rim, 10.5 r in the
@@ -488,8 +489,9 @@ typedef enum dp_settle {
  * defaults; stats may be NULL. Uses only ctx (one thread at a time per
  * context); reports progress as ("sink", iteration, settled points).
  * Errors: DP_ERR_ARG (NULL arguments, no normals, r not a positive number,
- * non-finite points or normals, parameters out of range), DP_ERR_EMPTY (no
- * points), DP_ERR_NOMEM, DP_ERR_CL from the device.
+ * non-finite points or normals, parameters out of range, coordinates whose
+ * squared distances overflow a float), DP_ERR_EMPTY (no points),
+ * DP_ERR_NOMEM, DP_ERR_CL from the device.
  */
 DP_API dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, const dp_sink_params *p, dp_cloud *anchors,
 		  unsigned char *settled_by, dp_sink_stats *stats, dp_error *err);
@@ -667,7 +669,8 @@ typedef struct dp_surface_stats {
  * test, and 165 flipped normals in all down to 77). One deeper
  * than escape_margin_r in a ball, with its normal towards the ball's centre,
  * moves out to the ball's sphere along the ray from the centre and takes the
- * current inner end of row j. Arrays are borrowed for the call.
+ * current inner end of row j. Arrays are borrowed for the call and read
+ * only at its start (they may alias `skeleton`'s).
  */
 typedef struct dp_balls {
 	size_t n;

@@ -21,9 +21,10 @@ static int largest_first(const void *pa, const void *pb)
 	return (a->row > b->row) - (a->row < b->row);
 }
 
-/* Whether a kept ball (hashed, cells no smaller than the largest radius)
- * contains ball `row` of `in`, grown by `slack`. Kept balls are no smaller,
- * so a container's centre lies within one radius, in the 27 cells around. */
+/* Whether a kept ball (hashed in cells no smaller than the largest radius
+ * plus the slack) contains ball `row` of `in`, grown by `slack`. Kept balls
+ * are no smaller, so a container's centre lies within one cell, in the 27
+ * cells around. */
 static int contained(const dp_hash *h, const dp_balls *in, const uint32_t *kept_row, uint32_t row, float slack)
 {
 	float x = in->x[row], y = in->y[row], z = in->z[row], rad = in->radius[row];
@@ -63,7 +64,16 @@ dp_status dp_ball_set_build(dp_ball_set *set, const dp_balls *in, float slack, d
 		if (in->radius[i] > 0.0f)
 			c[m++] = (candidate){in->radius[i], (uint32_t)i};
 	qsort(c, m, sizeof *c, largest_first);
-	if ((st = dp_hash_alloc(&h, m, c[0].radius, err)) != DP_OK)
+	/* A container's centre lies within its radius plus the slack: cells that
+	 * large keep it in the 27 around. No smaller than a 2^-40 of the largest
+	 * coordinate either, so that cell indices stay integers (tiny radii). */
+	float far = 0.0f;
+	for (size_t i = 0; i < m; i++) {
+		uint32_t row = c[i].row;
+		far = fmaxf(far, fmaxf(fabsf(in->x[row]), fmaxf(fabsf(in->y[row]), fabsf(in->z[row]))));
+	}
+	float cell = fmaxf(c[0].radius + slack, ldexpf(far, -40));
+	if ((st = dp_hash_alloc(&h, m, cell, err)) != DP_OK)
 		goto out;
 	size_t kept = 0;
 	for (size_t i = 0; i < m; i++) {

@@ -15,6 +15,52 @@ static int by_value(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
+/* A depth on offer: from evidence sample `origin`, to `point`. */
+typedef struct entry {
+	float cap;
+	uint32_t origin, point;
+} entry;
+
+static int before(entry a, entry b)
+{
+	if (a.cap != b.cap)
+		return a.cap < b.cap;
+	if (a.origin != b.origin)
+		return a.origin < b.origin;
+	return a.point < b.point;
+}
+
+/* A binary min-heap of entries in h[0..*top). */
+static void heap_push(entry *h, size_t *top, entry e)
+{
+	size_t i = (*top)++;
+	while (i > 0 && before(e, h[(i - 1) / 2])) {
+		h[i] = h[(i - 1) / 2];
+		i = (i - 1) / 2;
+	}
+	h[i] = e;
+}
+
+static entry heap_pop(entry *h, size_t *top)
+{
+	entry first = h[0], last = h[--(*top)];
+	size_t i = 0;
+	for (;;) {
+		size_t c = 2 * i + 1;
+		if (c >= *top)
+			break;
+		if (c + 1 < *top && before(h[c + 1], h[c]))
+			c++;
+		if (!before(h[c], last))
+			break;
+		h[i] = h[c];
+		i = c;
+	}
+	if (*top > 0)
+		h[i] = last;
+	return first;
+}
+
 static int evidence(unsigned char why)
 {
 	return why == DP_SETTLE_FRONT || why == DP_SETTLE_MEDIAL;
@@ -39,9 +85,12 @@ dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const norm
 	int *ridx = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(int));
 	float *rd2 = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(float)), *rdepth = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(float));
 	uint32_t *origin = dp_alloc_array(n, sizeof(uint32_t));
+	unsigned char *done = calloc(n, 1);
+	/* every sample enters once as evidence or once per link that lowers it */
+	entry *heap = dp_alloc_array(n, ((size_t)k + 1) * sizeof(entry));
 	dp_knn knn = {0};
 	dp_status st = DP_OK;
-	if (!idx || !d2 || !cap || !own || !origin || !ridx || !rd2 || !rdepth) {
+	if (!idx || !d2 || !cap || !own || !origin || !ridx || !rd2 || !rdepth || !done || !heap) {
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
 		goto out;
 	}
@@ -75,28 +124,32 @@ dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const norm
 		cap[i] = rdepth[m / 2];
 		origin[i] = (uint32_t)i;
 	}
-	/* Sweeps until nothing changes: each passes the smallest depth at
-	 * least one link further, so a face D r across takes about D / FLAT_LINK_R
-	 * of them. */
+	/* Best first, smallest depth first: each sample takes the first depth
+	 * that reaches it and passes on only that one, so the outcome does not
+	 * depend on the samples' order. */
 	float link2 = (float)(DP_FLAT_LINK_R * r * DP_FLAT_LINK_R * r);
-	int changed = 1;
-	while (changed) {
-		changed = 0;
-		for (size_t i = 0; i < n; i++) {
-			for (int j = 0; j < k; j++) {
-				int nb = idx[i * (size_t)k + (size_t)j];
-				if (nb < 0 || !(d2[i * (size_t)k + (size_t)j] <= link2))
-					break; /* ascending: the rest are farther */
-				uint32_t o = origin[nb];
-				if (o == NO_ORIGIN || !(cap[nb] < cap[i]))
-					continue;
-				float c = normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
-				if (c < min_cos)
-					continue;
-				cap[i] = cap[nb];
-				origin[i] = o;
-				changed = 1;
-			}
+	size_t top = 0;
+	for (size_t i = 0; i < n; i++)
+		if (origin[i] != NO_ORIGIN)
+			heap_push(heap, &top, (entry){cap[i], origin[i], (uint32_t)i});
+	while (top > 0) {
+		entry e = heap_pop(heap, &top);
+		if (done[e.point] || e.cap != cap[e.point] || e.origin != origin[e.point])
+			continue; /* a stale entry: the point was reached by a smaller depth */
+		done[e.point] = 1;
+		const float *on[3] = {&normal[0][e.origin], &normal[1][e.origin], &normal[2][e.origin]};
+		for (int j = 0; j < k; j++) {
+			size_t slot = e.point * (size_t)k + (size_t)j;
+			int nb = idx[slot];
+			if (nb < 0 || !(d2[slot] <= link2))
+				break; /* ascending: the rest are farther */
+			if (done[nb] || !(e.cap < cap[nb] || (e.cap == cap[nb] && e.origin < origin[nb])))
+				continue;
+			if (normal[0][nb] * *on[0] + normal[1][nb] * *on[1] + normal[2][nb] * *on[2] < min_cos)
+				continue;
+			cap[nb] = e.cap;
+			origin[nb] = e.origin;
+			heap_push(heap, &top, (entry){e.cap, e.origin, (uint32_t)nb});
 		}
 	}
 	for (size_t i = 0; i < n; i++) {
@@ -118,6 +171,8 @@ out:
 	free(cap);
 	free(own);
 	free(origin);
+	free(done);
+	free(heap);
 	free(ridx);
 	free(rd2);
 	free(rdepth);

@@ -274,15 +274,15 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu deep points", n);
 		goto fail;
 	}
-	if (!(ball_radius = dp_alloc_array(n0, sizeof(float)))) {
+	int escaping = params->surface.escape_margin_r > 0.0;
+	if (escaping && !(ball_radius = dp_alloc_array(n0, sizeof(float))))
 		st = dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu deep points", n0);
-		goto fail;
-	}
-	if ((st = sinking_balls(input, res, ball_radius, err)) != DP_OK)
-		goto fail;
-	dp_balls balls = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius};
-	st = dp_surface(ctx, input, &res->wlop, &res->skeleton, &balls, res->r, &params->surface, &coarse, res->eta,
-			&sst, err);
+	if (escaping && st == DP_OK)
+		st = sinking_balls(input, res, ball_radius, err);
+	dp_balls sunk = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius}, *balls = escaping ? &sunk : NULL;
+	if (st == DP_OK)
+		st = dp_surface(ctx, input, &res->wlop, &res->skeleton, balls, res->r, &params->surface, &coarse,
+				res->eta, &sst, err);
 	if (st == DP_OK) {
 		copy_rows(&res->surface, &coarse, n0);
 		copy_rows(&inner, &res->skeleton, n0);
@@ -297,7 +297,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "surface");
 		goto fail;
 	}
-	st = refine(ctx, input, params, counts, levels, &balls, res, err);
+	st = refine(ctx, input, params, counts, levels, balls, res, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "refine");
 		goto fail;

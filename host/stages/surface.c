@@ -549,6 +549,9 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 			st->reattached += reattach(w, n);
 		}
 		w->move[t] = settle(w, n, r, p);
+		/* an escape is a jump, not a step of the iteration's flow, and is
+		 * left out of the move the stopping test watches: a few points
+		 * escape in most iterations of a one-view scan */
 		if (escaping)
 			st->escaped += escape(w, n, r, p);
 		if ((s = dp_grid_build(&w->surface, n, a[A_PX], a[A_PY], a[A_PZ], surface_cell, err)) != DP_OK)
