@@ -664,9 +664,9 @@ typedef struct dp_surface_stats {
  * the data).
  * A surface point with no input to hold it turns about its inner end and,
  * past the end of its part of the skeleton, drifts through the body
- * (measured on the two-view bunny at 4000 deep points: 207 points more than
- * 0.01 diagonals inside, 85 of them with flipped normals; 83 and 18 with the
- * test, and 165 flipped normals in all down to 77). One deeper
+ * (measured on the two-view bunny at 4000 deep points: 181 points more than
+ * 0.01 diagonals inside, 80 of them with flipped normals; 78 and 11 with the
+ * test, and 153 flipped normals in all down to 81). One deeper
  * than escape_margin_r in a ball, with its normal towards the ball's centre,
  * moves out to the ball's sphere along the ray from the centre and takes the
  * current inner end of row j. Arrays are borrowed for the call and read
