@@ -8,6 +8,16 @@
  * enough for covariance matrices and never fails. */
 void dp_eig3_sym(const double a[6], double w[3], double v[3][3]);
 
+/* The same w[0] <= w[1] <= w[2], but only v0, the unit eigenvector of w[0]
+ * (a neighbourhood's normal), for the surface stage, which asks it of every
+ * point in every iteration: the eigenvalues in closed form (the roots of the
+ * characteristic cubic by the trigonometric formula) and v0 as the longest
+ * cross product of two rows of a - w[0] I, several times faster than the
+ * Jacobi sweeps. Where w[0] is not separated from w[1] (those rows span a
+ * line or less, and any vector of a plane is an eigenvector) it falls back
+ * on dp_eig3_sym. */
+void dp_eig3_smallest(const double a[6], double w[3], double v0[3]);
+
 /* First and second moments of offsets d (from any fixed origin, chosen near
  * the points so that float positions keep their precision): zero-initialise,
  * add each offset, then dp_moments_cov gives the covariance in dp_eig3_sym's

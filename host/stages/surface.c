@@ -384,19 +384,19 @@ static size_t update_normals(work *w, size_t n, double r, int orient_by_dpoint)
 	size_t disagreeing = 0;
 	for (size_t i = 0; i < n; i++) {
 		const float *c = w->cov + 6 * i;
-		double s[6] = {c[0], c[1], c[2], c[3], c[4], c[5]}, ev[3], vec[3][3];
+		double s[6] = {c[0], c[1], c[2], c[3], c[4], c[5]}, ev[3], v0[3];
 		double old[3] = {a[A_NX][i], a[A_NY][i], a[A_NZ][i]}, pca[3] = {old[0], old[1], old[2]};
 		float m[3], len;
 		dpoint(a, i, min_len, m, &len);
-		dp_eig3_sym(s, ev, vec);
+		dp_eig3_smallest(s, ev, v0);
 		if (ev[1] > PCA_MIN_SPREAD) {
-			double by_old = vec[0][0] * old[0] + vec[0][1] * old[1] + vec[0][2] * old[2];
-			double by_m = vec[0][0] * m[0] + vec[0][1] * m[1] + vec[0][2] * m[2];
+			double by_old = v0[0] * old[0] + v0[1] * old[1] + v0[2] * old[2];
+			double by_m = v0[0] * m[0] + v0[1] * m[1] + v0[2] * m[2];
 			int has_len = len > min_len;
 			disagreeing += has_len && (by_old < 0.0) != (by_m < 0.0);
 			double sign = (orient_by_dpoint && has_len ? by_m : by_old) < 0.0 ? -1.0 : 1.0;
 			for (int k = 0; k < 3; k++)
-				pca[k] = sign * vec[0][k];
+				pca[k] = sign * v0[k];
 		}
 		for (int k = 0; k < 3; k++)
 			a[A_TX + k][i] = (float)pca[k];
