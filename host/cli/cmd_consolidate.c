@@ -94,7 +94,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
 	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
-	int any_side = 0, old_orient = 0;
+	int any_side = 0, old_orient = 0, along = 0;
 	const char *samples = NULL;
 	const char *list_file = NULL, *shard_text = NULL;
 	int skip_done = 0, up_given = 0;
@@ -169,6 +169,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 NULL, NULL},
 		{"--min-axis-weight", CLI_DOUBLE, &p->skeleton.min_axis_weight,
 		 "skeleton repulsion ignores axes of smaller weight", NULL, NULL},
+		{"--skeleton-along", CLI_FLAG, &along,
+		 "the skeleton's median step moves points along curves and sheets too (the paper), not only across "
+		 "them: sheets tear into spots and leave their rims", NULL, NULL},
 		{"--skeleton-iters", CLI_INT, &p->skeleton.max_iters, "skeleton iteration cap", NULL, NULL},
 		{"--skeleton-window", CLI_INT, &p->skeleton.window,
 		 "skeleton stops when the mean move fell less than min-drop over this many iterations", NULL, NULL},
@@ -259,6 +262,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->surface.prior = (dp_surface_prior)prior;
 	p->surface.reattach = !no_reattach;
 	p->surface.same_side = !any_side;
+	p->skeleton.across_only = !along;
 	p->surface.orient_by_dpoint = !old_orient;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;

@@ -515,8 +515,23 @@ DP_API dp_status dp_sink(dp_context *ctx, const dp_cloud *surface, double r, con
  *    β = ϑ(q') / u(q')⁵, projected onto the long axes (the intent of the
  *    paper's μ|ℓ|² AᵀA, which taken literally would push hardest across a curve or sheet):
  *    P_i = Σ_{m: w_m >= min_axis_weight} w_m v^m v^mᵀ, w_m = (l^m)² / Σ_m' (l^m')²;
- *  - update q_i ← m_i + mu · P_i ρ_i. Without anchors in reach m_i = q_i;
- *    without inner neighbours in reach ρ_i = 0 (isolated points stay put).
+ *  - update q_i ← q_i + C_i (m_i - q_i) + mu · P_i ρ_i. The paper takes the
+ *    whole median step, C_i = I (across_only = 0). With across_only (not in
+ *    the paper; the default) only its part across the structure counts:
+ *    C_i = Σ_m (l_min / l^m)² v^m v^mᵀ, l_min the shortest semi-axis, so a
+ *    ball contracts fully, a curve only across itself and a sheet only
+ *    through its thickness. Along a sheet the median of an ellipsoid ten
+ *    times wider than deep drew points towards denser spots and away from
+ *    the rim: the skeleton of the demo chair's seat tore into holes up to
+ *    6.6 r across, the surface points above took inner ends up to 10 r aside,
+ *    and the completed underside hung 3-5 r too low. Measured at the
+ *    defaults over six WLOP seeds, full step -> across only: chair 95th
+ *    percentile accuracy 0.050 -> 0.022 diagonals, flipped 4.2% -> 3.5%,
+ *    spacing variation 0.52 -> 0.37, coverage 0.954 -> 0.946; one-view bunny
+ *    coverage 0.758 -> 0.775, flipped 3.6% -> 2.5%; two-view bunny flipped
+ *    2.3% -> 2.0%, coverage 0.961 -> 0.952.
+ *    Without anchors in reach m_i = q_i; without inner neighbours in reach
+ *    ρ_i = 0 (isolated points stay put).
  * Pairs closer than 1e-5 r are skipped (q_i itself, duplicates).
  * Stops when the mean move per iteration stops falling: at iteration t > window
  * when move_t > (1 - min_drop) · move_{t-window}, or when move_t < min_move_r;
@@ -528,6 +543,7 @@ typedef struct dp_skeleton_params {
 	double mu;              /* repulsion weight μ; default 0.4 */
 	double cutoff;          /* neighbour sums stop at ellipsoid distance cutoff r; default 3 */
 	double min_axis_weight; /* repulsion ignores axes whose weight w_m is below; default 0 (all axes) */
+	int across_only;        /* 1: the median step only across curves and sheets (default); 0: whole (paper) */
 	int max_iters;          /* iteration cap; default 100 */
 	int window;             /* iterations over which the mean move must fall; default 3 */
 	double min_drop;        /* required relative fall of the mean move over the window; default 0.05 */

@@ -70,6 +70,7 @@ static void json_skeleton_params(dp_json_writer *w, const dp_skeleton_params *p)
 	dp_json_num(w, "mu", p->mu);
 	dp_json_num(w, "cutoff", p->cutoff);
 	dp_json_num(w, "min_axis_weight", p->min_axis_weight);
+	dp_json_bool(w, "across_only", p->across_only);
 	dp_json_int(w, "max_iters", p->max_iters);
 	dp_json_int(w, "window", p->window);
 	dp_json_num(w, "min_drop", p->min_drop);

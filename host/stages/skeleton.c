@@ -30,6 +30,7 @@ void dp_skeleton_params_default(dp_skeleton_params *p)
 	p->mu = 0.4;
 	p->cutoff = 3.0;
 	p->min_axis_weight = 0.0;
+	p->across_only = 1;
 	p->max_iters = 100;
 	p->window = 3;
 	p->min_drop = 0.05;
@@ -182,8 +183,18 @@ static dp_status scan_grid_shape(float longest, double cutoff, double r, float *
 	return DP_OK;
 }
 
-/* q_i ← m_i + μ P_i ρ_i into w->nx/ny/nz; returns the mean move in r. The
- * per-query arrays are in the near grid's order (see iterate). */
+/* q_i ← q_i + C_i (m_i - q_i) + μ P_i ρ_i into w->nx/ny/nz, C_i = I when
+ * the median step moves along the structure too (the paper); returns the
+ * mean move in r. The per-query arrays are in the near grid's order (see
+ * iterate). Across only, C_i = Σ_m (l_min / l^m)² v^m v^mᵀ: the step's part
+ * along an axis as long as the shortest is kept, along a long axis of a curve
+ * or a sheet it vanishes. Along a sheet the median of an ellipsoid ten times
+ * wider than deep only drew points towards denser spots and away from the
+ * rim: measured on the demo chair's seat, the skeleton's largest hole grew
+ * from 1.4 r (the anchors) to 6.6 r within 20 iterations, the surface points
+ * above a hole took inner ends up to 10 r aside, and once off the scanned
+ * top such a point swung round its inner end to hang 3-5 r under the seat
+ * (dpoints.h has the measured effect). */
 static double update(work *w, const dp_cloud *q, double r, const dp_skeleton_params *p)
 {
 	double total = 0.0;
@@ -200,10 +211,23 @@ static double update(work *w, const dp_cloud *q, double r, const dp_skeleton_par
 			for (int c = 0; c < 3; c++)
 				proj[c] += along * v[3 * m + c];
 		}
-		double nxt[3];
+		double cur[3] = {q->x[i], q->y[i], q->z[i]}, step[3], nxt[3];
 		for (int c = 0; c < 3; c++)
-			nxt[c] = w->median[3 * s + c] + p->mu * proj[c];
-		double dx = nxt[0] - q->x[i], dy = nxt[1] - q->y[i], dz = nxt[2] - q->z[i];
+			step[c] = w->median[3 * s + c] - cur[c];
+		if (p->across_only) {
+			double shortest = fmin(fmin(l[0], l[1]), l[2]), across[3] = {0.0, 0.0, 0.0};
+			for (int m = 0; m < 3; m++) {
+				double keep = shortest / l[m];
+				double along = keep * keep * (v[3 * m] * step[0] + v[3 * m + 1] * step[1] + v[3 * m + 2] * step[2]);
+				for (int c = 0; c < 3; c++)
+					across[c] += along * v[3 * m + c];
+			}
+			for (int c = 0; c < 3; c++)
+				step[c] = across[c];
+		}
+		for (int c = 0; c < 3; c++)
+			nxt[c] = cur[c] + step[c] + p->mu * proj[c];
+		double dx = nxt[0] - cur[0], dy = nxt[1] - cur[1], dz = nxt[2] - cur[2];
 		total += sqrt(dx * dx + dy * dy + dz * dz);
 		w->nx[i] = (float)nxt[0];
 		w->ny[i] = (float)nxt[1];
