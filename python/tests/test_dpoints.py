@@ -54,6 +54,7 @@ def test_defaults_are_the_librarys():
     assert p["sink_omega_deg"] == 45.0
     assert p["surface_prior"] == "volume" and p["wlop_weight"] == "gaussian"
     assert p["surface_same_side"] is True
+    assert p["skeleton_across_only"] is True
     # every parameter is a keyword of consolidate, with that default
     import inspect
     sig = inspect.signature(dpoints.consolidate).parameters
