@@ -1,7 +1,8 @@
 /* Sinking operators (DESIGN 4.1); the specification is host/ref/sink_ref.c. */
 
-/* Same value as DP_SINK_NO_FRONT (host/ops/operators.h). */
+/* Same values as DP_SINK_NO_FRONT and DP_SINK_OPPOSITE_COS (host/ops/operators.h). */
 #define SINK_NO_FRONT 2.0f
+#define SINK_OPPOSITE_COS -0.70710678f
 
 /* Candidates are taken DP_LANES at a time (GRID_PAIRS, kernels/grid.cl),
  * pairs outside a sum masked by select. */
@@ -10,9 +11,12 @@
 		T dx = ax - LOAD(gx, k), dy = ay - LOAD(gy, k), dz = az - LOAD(gz, k);        \
 		T ex = bx - LOAD(sx, k), ey = by - LOAD(sy, k), ez = bz - LOAD(sz, k);        \
 		T dot = mx * LOAD(nx, k) + my * LOAD(ny, k) + mz * LOAD(nz, k);               \
+		T behind = -(LOAD(nx, k) * ex + LOAD(ny, k) * ey + LOAD(nz, k) * ez);         \
 		best##s = select(best##s, fmin(best##s, dot),                                  \
 				 (live) & (dx * dx + dy * dy + dz * dz < r2) &                  \
-					 (ex * ex + ey * ey + ez * ez > far_d2));               \
+					 ((ex * ex + ey * ey + ez * ez > far_d2) |              \
+					  (((T)wall_min > (T)0.0f) & (dot < (T)SINK_OPPOSITE_COS) &  \
+					   (behind > (T)wall_min))));                             \
 	}
 
 __kernel void sink_front(const uint n, __global const float *qx, __global const float *qy,
@@ -20,7 +24,7 @@ __kernel void sink_front(const uint n, __global const float *qx, __global const 
 			 __global const float *pz, __global const float *qnx, __global const float *qny,
 			 __global const float *qnz, GRID_ARGS, __global const float *sx, __global const float *sy,
 			 __global const float *sz, __global const float *nx, __global const float *ny,
-			 __global const float *nz, const float radius, const float far_d2,
+			 __global const float *nz, const float radius, const float far_d2, const float wall_min,
 			 __global float *min_dot)
 {
 	uint i = get_global_id(0);

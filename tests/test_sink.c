@@ -441,9 +441,16 @@ static void test_thin_part_does_not_stop_the_rest(void **state)
 #define WALL_SIDE 40
 #define WALL_THICKNESS 3.0
 #define WALL_TILT_DEG 8.0
-static void test_thin_wall(void **state)
+/* Below the front test's far distance (2 r at the defaults), where the far
+ * face's points are too near to count as an opposing front: only the
+ * thin-wall rule (sinking step 1d) stops the anchors inside. */
+#define THINNER_WALL 1.2
+/* Sinks a wall `thickness` thick (two noisy faces of a unit grid, normals
+ * tilted by noise) with wall_min_r; prints and returns the anchors' mean
+ * distance from the mid-plane away from the rim, in r, and how many lie
+ * outside the wall. */
+static double sink_wall(double thickness, double wall_min_r, size_t *outside_out)
 {
-	(void)state;
 	size_t n = 2 * WALL_SIDE * WALL_SIDE;
 	dp_cloud c;
 	dp_error err = {0};
@@ -458,7 +465,7 @@ static void test_thin_wall(void **state)
 				double side = face ? 1.0 : -1.0;
 				c.x[k] = (float)(i - WALL_SIDE / 2 + NOISE * dp_rng_normal(&rng));
 				c.y[k] = (float)(j - WALL_SIDE / 2 + NOISE * dp_rng_normal(&rng));
-				c.z[k] = (float)(side * WALL_THICKNESS / 2 + NOISE * dp_rng_normal(&rng));
+				c.z[k] = (float)(side * thickness / 2 + NOISE * dp_rng_normal(&rng));
 				double v[3] = {tilt * dp_rng_normal(&rng), tilt * dp_rng_normal(&rng), side};
 				double len = norm3(v[0], v[1], v[2]);
 				c.nx[k] = (float)(v[0] / len);
@@ -466,9 +473,12 @@ static void test_thin_wall(void **state)
 				c.nz[k] = (float)(v[2] / len);
 			}
 	double r = spacing(&c);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	p.wall_min_r = wall_min_r;
 	dp_cloud h;
 	dp_sink_stats st;
-	run_sink(tk_cl_context(), &c, r, &h, &st);
+	run_sink_with(tk_cl_context(), &c, r, &p, &h, &st);
 	size_t inner = 0, outside = 0;
 	double sum = 0.0, worst = 0.0;
 	for (size_t i = 0; i < n; i++) {
@@ -478,14 +488,41 @@ static void test_thin_wall(void **state)
 		inner++;
 		sum += off;
 		worst = fmax(worst, off);
-		outside += off > WALL_THICKNESS / 2;
+		outside += off > thickness / 2;
 	}
-	printf("  wall %.1f r thick: %zu anchors away from the rim %.3f r from the mid-plane on average, largest "
-	       "%.3f r, %zu outside the wall\n", WALL_THICKNESS / r, inner, sum / (double)inner / r, worst / r, outside);
-	assert_int_equal(outside, 0);
-	assert_true(sum / (double)inner < 0.25 * r);
+	printf("  wall %.1f r thick, thin-wall distance %g r: %zu anchors away from the rim %.3f r from the mid-plane "
+	       "on average, largest %.3f r, %zu outside the wall\n",
+	       thickness / r, wall_min_r, inner, sum / (double)inner / r, worst / r, outside);
 	dp_cloud_free(&c);
 	dp_cloud_free(&h);
+	*outside_out = outside;
+	return sum / (double)inner / r;
+}
+
+static void test_thin_wall(void **state)
+{
+	(void)state;
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	size_t outside;
+	double mean = sink_wall(WALL_THICKNESS, p.wall_min_r, &outside);
+	assert_int_equal(outside, 0);
+	assert_true(mean < 0.25);
+}
+
+/* Thinner than the far distance: the default stops every anchor inside, near
+ * the mid-plane; without the rule the wall is passed through. */
+static void test_thinner_wall(void **state)
+{
+	(void)state;
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	size_t outside, outside_off;
+	double mean = sink_wall(THINNER_WALL, p.wall_min_r, &outside);
+	sink_wall(THINNER_WALL, 0.0, &outside_off);
+	assert_int_equal(outside, 0);
+	assert_true(mean < 0.25);
+	assert_true(outside_off > 0);
 }
 
 /* The meeting point of hand-placed partners, for p on top of a sphere of
@@ -879,6 +916,7 @@ int main(void)
 		cmocka_unit_test(test_hemisphere),
 		cmocka_unit_test(test_meet_shift),
 		cmocka_unit_test(test_thin_wall),
+		cmocka_unit_test(test_thinner_wall),
 		cmocka_unit_test(test_thin_part_does_not_stop_the_rest),
 		cmocka_unit_test(test_shallow_cap),
 		cmocka_unit_test(test_backends_agree),

@@ -27,6 +27,7 @@ typedef struct fixture {
 #define EXTENT 8.0f
 #define FRONT_RADIUS 0.9f
 #define FAR_DIST 4.0f
+#define WALL_MIN 0.3f
 #define STATIC_RADIUS 1.5f
 #define SPACING 0.3f
 #define COS_OMEGA 0.70710678f
@@ -120,6 +121,18 @@ static float dot(const fixture *f, size_t i, size_t k)
 	return f->nx[i] * f->nx[k] + f->ny[i] * f->ny[k] + f->nz[i] * f->nz[k];
 }
 
+/* Whether partner k is the far face of a wall for query i (the front
+ * test's second way in); *walls counts the pairs only it lets in. */
+static size_t walls;
+static int wall(const fixture *f, size_t i, size_t k)
+{
+	float behind = f->nx[k] * (f->px[k] - f->px[i]) + f->ny[k] * (f->py[k] - f->py[i]) +
+		       f->nz[k] * (f->pz[k] - f->pz[i]);
+	int in = dot(f, i, k) < DP_SINK_OPPOSITE_COS && behind > WALL_MIN;
+	walls += in && !(dist2(f->px, f->py, f->pz, i, k) > FAR_DIST * FAR_DIST);
+	return in;
+}
+
 static dp_sink_front_args front_args(const fixture *f, float *out)
 {
 	return (dp_sink_front_args){
@@ -130,7 +143,7 @@ static dp_sink_front_args front_args(const fixture *f, float *out)
 		.qx = f->qx, .qy = f->qy, .qz = f->qz,
 		.px = f->px, .py = f->py, .pz = f->pz,
 		.qnx = f->nx, .qny = f->ny, .qnz = f->nz,
-		.radius = FRONT_RADIUS, .far_d2 = FAR_DIST * FAR_DIST, .min_dot = out,
+		.radius = FRONT_RADIUS, .far_d2 = FAR_DIST * FAR_DIST, .wall_min = WALL_MIN, .min_dot = out,
 	};
 }
 
@@ -151,15 +164,16 @@ static void test_front(void **state)
 		brute[i] = DP_SINK_NO_FRONT;
 		for (size_t k = 0; k < f->n; k++)
 			if (dist2(f->qx, f->qy, f->qz, i, k) < FRONT_RADIUS * FRONT_RADIUS &&
-			    dist2(f->px, f->py, f->pz, i, k) > FAR_DIST * FAR_DIST)
+			    (dist2(f->px, f->py, f->pz, i, k) > FAR_DIST * FAR_DIST || wall(f, i, k)))
 				brute[i] = fminf(brute[i], dot(f, i, k));
 		fronts += brute[i] != DP_SINK_NO_FRONT;
 		settles += brute[i] <= COS_OMEGA;
 	}
 	tk_assert_close(ref, brute, f->n, 1e-5f, 1e-6f, "sink_front vs brute force");
 	/* The inputs exercise every outcome: no front, a front that does not
-	 * settle, a front that settles. */
+	 * settle, a front that settles, a partner only the thin-wall rule lets in. */
 	assert_true(fronts < f->n && settles < fronts && settles > 0);
+	assert_true(walls > 0);
 	free(ref);
 	free(cl);
 	free(brute);

@@ -157,6 +157,10 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "a sinking point stops once as deep as half the scale at which the samples around its surface point "
 		 "spread less than that scale / (2 * this): points leaving a thin part stop within a few of its widths "
 		 "(0 = off)", NULL, NULL},
+		{"--thin-wall", CLI_DOUBLE, &p->sink.wall_min_r,
+		 "a sinking point also meets the far face of a wall however near it is, once the face's normal is over "
+		 "135 degrees from its own and it lies at least this far behind that face's tangent plane, in r: a wall "
+		 "thinner than the front test's far distance is otherwise passed through (0 = off)", NULL, NULL},
 		{"--flat-angle", CLI_DOUBLE, &p->sink.flat_angle_deg,
 		 "a point that stopped only by slow-down takes at most its flat face's depth: the median depth of the "
 		 "evidence-settled points at the face's rim, passed on through samples whose normals stay within this "

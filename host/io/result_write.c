@@ -59,6 +59,7 @@ static void json_sink_params(dp_json_writer *w, const dp_sink_params *p)
 	dp_json_num(w, "slow_margin_r", p->slow_margin_r);
 	dp_json_num(w, "width_factor", p->width_factor);
 	dp_json_num(w, "flat_angle_deg", p->flat_angle_deg);
+	dp_json_num(w, "wall_min_r", p->wall_min_r);
 	dp_json_end_object(w);
 }
 

@@ -84,22 +84,28 @@
 /* What dp_sink_front writes when no neighbour qualifies: larger than any dot
  * product of unit normals, so it never passes a settle test cos ω < 1. */
 #define DP_SINK_NO_FRONT 2.0f
+/* A partner whose normal is this near the opposite one (cos 135°) faces back
+ * across a wall (sinking's thin-wall rule; meet.c's ball uses the same cut). */
+#define DP_SINK_OPPOSITE_COS -0.70710678f
 
 /* The settle test's evidence (Eq. 2 as DESIGN 4.1 reads it). The grid holds the
  * inner points q_i' (all of them, settled or not); sx..nz are the surface
  * point p_i' and normal n_i' of each. For query i (inner point q, surface
  * point p, normal qn):
  *   min_dot[i] = min n_i · n_i' over i' with |q_i - q_i'| < radius and
- *                |p_i - p_i'|² > far_d2 (an opposing front, not a crease),
+ *                either |p_i - p_i'|² > far_d2 (an opposing front, not a
+ *                crease) or, when wall_min > 0, n_i · n_i' < DP_SINK_OPPOSITE_COS
+ *                and n_i' · (p_i' - p_i) > wall_min (the far face of a wall,
+ *                however thin, p_i behind its tangent plane),
  * or DP_SINK_NO_FRONT when there is none. The query itself and duplicates of
- * its surface point fail the far test. */
+ * its surface point fail both tests. */
 #define DP_OP_SINK_FRONT(F)                                                                       \
 	F(POS, float, qx, 1) F(POS, float, qy, 1) F(POS, float, qz, 1) F(QUERY, float, px, 1)     \
 	F(QUERY, float, py, 1) F(QUERY, float, pz, 1) F(QUERY, float, qnx, 1)                     \
 	F(QUERY, float, qny, 1) F(QUERY, float, qnz, 1) F(GRID, dp_grid, inner, 1)                \
 	F(ATTR, float, sx, 1) F(ATTR, float, sy, 1) F(ATTR, float, sz, 1) F(ATTR, float, nx, 1)   \
 	F(ATTR, float, ny, 1) F(ATTR, float, nz, 1) F(RADIUS, float, radius, 1)                   \
-	F(PARAM, float, far_d2, 1) F(OUT, float, min_dot, 1)
+	F(PARAM, float, far_d2, 1) F(PARAM, float, wall_min, 1) F(OUT, float, min_dot, 1)
 
 /* The adaptive step: the grid holds the surface points p_i' and `move` the
  * distance their inner points moved in the previous iteration (0 for settled

@@ -18,10 +18,12 @@ void dp_ref_sink_front(const dp_sink_front_args *a)
 				if (dx * dx + dy * dy + dz * dz >= r2)
 					continue;
 				float ex = a->px[i] - a->sx[k], ey = a->py[i] - a->sy[k], ez = a->pz[i] - a->sz[k];
-				if (ex * ex + ey * ey + ez * ez <= a->far_d2)
-					continue;
 				float dot = a->qnx[i] * a->nx[k] + a->qny[i] * a->ny[k] + a->qnz[i] * a->nz[k];
-				if (dot < best)
+				int far = ex * ex + ey * ey + ez * ez > a->far_d2;
+				/* -(n'·(p - p')) = n'·(p' - p): how far p lies behind the partner's plane */
+				float behind = -(a->nx[k] * ex + a->ny[k] * ey + a->nz[k] * ez);
+				int wall = a->wall_min > 0.0f && dot < DP_SINK_OPPOSITE_COS && behind > a->wall_min;
+				if ((far || wall) && dot < best)
 					best = dot;
 			}
 		a->min_dot[i] = best;

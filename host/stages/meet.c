@@ -1,10 +1,13 @@
 #include "stages/meet.h"
 
+#include "ops/operators.h"
+
 #include <math.h>
 
 /* Partners whose normal is within 45° of the opposite one: their sinking
- * line and the point's are too close to parallel to cross where it matters. */
-#define OPPOSITE_COS -0.70710678
+ * line and the point's are too close to parallel to cross where it matters
+ * (the settle test's thin-wall cut). */
+#define OPPOSITE_COS DP_SINK_OPPOSITE_COS
 /* Nearly parallel lines (a small ω lets such partners through) cross where
  * the normals' noise puts them: they fix no depth. */
 #define MIN_LINE_WEIGHT 0.05
@@ -22,9 +25,11 @@ float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], c
 			if (dx * dx + dy * dy + dz * dz >= r2)
 				continue;
 			float w[3] = {a->sx[k] - p[0], a->sy[k] - p[1], a->sz[k] - p[2]};
-			if (w[0] * w[0] + w[1] * w[1] + w[2] * w[2] <= a->far_d2)
-				continue;
 			float b = n[0] * a->nx[k] + n[1] * a->ny[k] + n[2] * a->nz[k];
+			float behind = a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2];
+			int wall = a->wall_min > 0.0f && b < OPPOSITE_COS && behind > a->wall_min;
+			if (!(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] > a->far_d2 || wall))
+				continue;
 			if (b > a->cos_w)
 				continue;
 			double t, weight;

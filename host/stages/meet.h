@@ -25,6 +25,7 @@ typedef struct dp_meet_args {
 	const float *nx, *ny, *nz;   /* its normal */
 	float radius;                /* the settle radius */
 	float far_d2;                /* partners' surface points farther than this (squared) */
+	float wall_min;              /* ... or, facing back across a wall, p this far behind them (0: off) */
 	float cos_w;                 /* partners' normals at least ω apart */
 	float max_shift;             /* the largest move along the line */
 } dp_meet_args;
@@ -32,7 +33,7 @@ typedef struct dp_meet_args {
 /* The signed distance along -n (deeper when positive) that brings the inner
  * point q of surface point p, normal n, to the medial axis as its partners
  * place it: the inner points within the radius that pass the settle test's
- * far and angle tests. With n', s a partner's normal and surface point and
+ * far (or thin-wall) and angle tests (host/ops/operators.h, sink_front). With n', s a partner's normal and surface point and
  * b = n·n': for b >= -cos 45° the depth where the two sinking lines pass
  * closest, weighted by 1 - b²; below, the radius t of the ball that touches
  * p and the partner's tangent plane, t (1 - b) = n'·(s - p), weighted 1. 0

@@ -30,6 +30,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->slow_margin_r = 1.5;
 	p->width_factor = 2.0;
 	p->flat_angle_deg = 10.0;
+	p->wall_min_r = 0.5;
 }
 
 static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
@@ -65,6 +66,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 	if (!(p->flat_angle_deg >= 0.0 && p->flat_angle_deg < 90.0))
 		return dp_fail(err, DP_ERR_ARG, "sink: flat-face angle %g degrees is not in [0, 90) (0 turns it off)",
 			       p->flat_angle_deg);
+	if (!(p->wall_min_r >= 0.0 && isfinite(p->wall_min_r)))
+		return dp_fail(err, DP_ERR_ARG, "sink: thin-wall distance %g r is not a finite number >= 0 (0 turns the rule off)",
+			       p->wall_min_r);
 	/* the widest scale becomes a grid cell, a float */
 	double widest = DP_WIDTH_MIN_SCALE_R * (double)(1u << (DP_WIDTH_SCALES - 1));
 	if (p->width_factor > 0.0 && !isfinite((float)(r * widest)))
@@ -146,8 +150,8 @@ static void compact_surface(const sink_state *st)
 }
 
 /* Settle test of every unsettled point; *settled receives how many settled. */
-static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, float far_d2, float cos_w,
-				 float meet_shift, size_t *settled, dp_error *err)
+static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, float far_d2, float wall_min,
+				 float cos_w, float meet_shift, size_t *settled, dp_error *err)
 {
 	dp_status rc = dp_grid_build(&st->inner, st->n, st->q[0], st->q[1], st->q[2], radius, err);
 	if (rc != DP_OK)
@@ -166,7 +170,7 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
 		.qx = st->a[C_QX], .qy = st->a[C_QY], .qz = st->a[C_QZ],
 		.px = st->a[C_PX], .py = st->a[C_PY], .pz = st->a[C_PZ],
 		.qnx = st->a[C_NX], .qny = st->a[C_NY], .qnz = st->a[C_NZ],
-		.radius = radius, .far_d2 = far_d2, .min_dot = st->a[C_OUT_X],
+		.radius = radius, .far_d2 = far_d2, .wall_min = wall_min, .min_dot = st->a[C_OUT_X],
 	};
 	rc = dp_op_sink_front(ctx, &fa, err);
 	if (rc != DP_OK)
@@ -175,7 +179,7 @@ static dp_status settle_by_front(dp_context *ctx, sink_state *st, float radius, 
 		.inner = &st->inner,
 		.sx = st->a[SURF_X_Q], .sy = st->a[SURF_Y_Q], .sz = st->a[SURF_Z_Q],
 		.nx = st->a[NORM_X_Q], .ny = st->a[NORM_Y_Q], .nz = st->a[NORM_Z_Q],
-		.radius = radius, .far_d2 = far_d2, .cos_w = cos_w, .max_shift = meet_shift,
+		.radius = radius, .far_d2 = far_d2, .wall_min = wall_min, .cos_w = cos_w, .max_shift = meet_shift,
 	};
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
@@ -392,7 +396,8 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		if (st->nlist == 0)
 			break;
 		size_t by_front, by_medial = 0, by_width = 0, by_slow;
-		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)cos_w, meet_shift, &by_front, err);
+		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)(p->wall_min_r * r), (float)cos_w,
+				     meet_shift, &by_front, err);
 		if (rc == DP_OK) {
 			settle_past_medial(st, medial_margin, &by_medial);
 			settle_by_width(st, &by_width);
