@@ -57,11 +57,20 @@ static void test_degenerate(void **state)
 
 /* Against dp_eig3_sym; `gap_min` is the relative gap w[1] - w[0] from which
  * v0 must be Jacobi's v[0] up to sign. */
+static int fast_answers; /* how many checks the closed form answered */
+
 static void check_smallest(const double s[6], double gap_min)
 {
 	double w[3], v[3][3], ws[3], v0[3];
 	dp_eig3_sym(s, w, v);
-	dp_eig3_smallest(s, ws, v0);
+	int fast = dp_eig3_smallest(s, ws, v0);
+	fast_answers += fast;
+	/* well apart (twice the cut, in the matrix's size |q| + p), the closed
+	 * form must answer: a fallback everywhere would pass every other check */
+	double q = (w[0] + w[1] + w[2]) / 3.0;
+	double p = sqrt(((w[0] - q) * (w[0] - q) + (w[1] - q) * (w[1] - q) + (w[2] - q) * (w[2] - q)) / 6.0);
+	if (w[1] - w[0] > 2e-3 * (fabs(q) + p) && !fast)
+		fail_msg("gap %g of size %g: Jacobi answered", w[1] - w[0], fabs(q) + p);
 	double a[3][3] = {{s[0], s[1], s[2]}, {s[1], s[3], s[4]}, {s[2], s[4], s[5]}};
 	double scale = fabs(w[0]) + fabs(w[2]) + 1e-30;
 	for (int m = 0; m < 3; m++)
@@ -128,8 +137,17 @@ static void test_smallest(void **state)
 	check_smallest(line, 1e-3);
 	check_smallest(shifted, 1e-3);
 	double w[3], v0[3];
-	dp_eig3_smallest(plane, w, v0);
+	assert_int_equal(dp_eig3_smallest(plane, w, v0), 1);
 	assert_true(fabs(fabs(v0[2]) - 1.0) < 1e-12);
+	assert_int_equal(dp_eig3_smallest(iso, w, v0), 0);
+	assert_int_equal(dp_eig3_smallest(zero, w, v0), 0);
+	/* scale: the rows are normalised, so huge and tiny matrices work too */
+	const double huge[6] = {3e150, 1e150, 0, 2e150, 0, 1e149}, tiny[6] = {3e-150, 1e-150, 0, 2e-150, 0, 1e-151};
+	assert_int_equal(dp_eig3_smallest(huge, w, v0), 1);
+	assert_true(fabs(v0[0] * v0[0] + v0[1] * v0[1] + v0[2] * v0[2] - 1.0) < 1e-12);
+	check_smallest(huge, 1e-3);
+	check_smallest(tiny, 1e-3);
+	assert_true(fast_answers > 1000);
 }
 
 int main(void)

@@ -11,12 +11,13 @@ void dp_eig3_sym(const double a[6], double w[3], double v[3][3]);
 /* The same w[0] <= w[1] <= w[2], but only v0, the unit eigenvector of w[0]
  * (a neighbourhood's normal), for the surface stage, which asks it of every
  * point in every iteration: the eigenvalues in closed form (the roots of the
- * characteristic cubic by the trigonometric formula) and v0 as the longest
- * cross product of two rows of a - w[0] I, several times faster than the
- * Jacobi sweeps. Where w[0] is not separated from w[1] (those rows span a
- * line or less, and any vector of a plane is an eigenvector) it falls back
- * on dp_eig3_sym. */
-void dp_eig3_smallest(const double a[6], double w[3], double v0[3]);
+ * characteristic cubic by the trigonometric formula, to about 1e-8 of the
+ * matrix's size where two roots meet) and v0 as the longest cross product of
+ * two rows of a - w[0] I, several times faster than the Jacobi sweeps. Where
+ * w[0] is within 1e-3 of the matrix's size of w[1] (those rows span a line
+ * or less, and v0 is barely defined) it falls back on dp_eig3_sym. Returns 1
+ * when the closed form answered, 0 when Jacobi did. */
+int dp_eig3_smallest(const double a[6], double w[3], double v0[3]);
 
 /* First and second moments of offsets d (from any fixed origin, chosen near
  * the points so that float positions keep their precision): zero-initialise,
