@@ -409,9 +409,10 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     out a neighbour on the point's own face whose normal came out flipped.
  *     Measured: a wall 1.4 r thick (test_sink), anchors 0.81 r from its
  *     mid-plane with 793 of 804 outside it, with the rule 0.06 r and none;
- *     the two-view bunny's ears (mean of three WLOP seeds) flipped normals
- *     1.8% -> 1.4%, 95th percentile 0.042 -> 0.040 diagonals, the one-view
- *     bunny and the chair unchanged (0.25 r: 1.5%; 1 r: 1.8%);
+ *     the two-view bunny's ears (mean of six WLOP seeds) flipped normals
+ *     2.0% -> 1.7%, spacing variation 0.36 -> 0.34, the one-view bunny, the
+ *     chair and the scans of the data folder unchanged (over seeds 1-3,
+ *     0.25 r: 1.5%, 0.5 r: 1.4%, 1 r: 1.8%);
  *  2. step t_i: first_step_r × r in the first iteration, then the mean over the
  *     static neighbourhood P_i (surface points within sigma_p × r, i included)
  *     of the distance each inner point moved in the previous iteration (settled
