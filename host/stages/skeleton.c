@@ -188,13 +188,14 @@ static dp_status scan_grid_shape(float longest, double cutoff, double r, float *
  * mean move in r. The per-query arrays are in the near grid's order (see
  * iterate). Across only, C_i = Σ_m (l_min / l^m)² v^m v^mᵀ: the step's part
  * along an axis as long as the shortest is kept, along a long axis of a curve
- * or a sheet under 1% of it is (l is at most 1/ε, at least 1/(1+ε)). Along a sheet the median of an ellipsoid ten times
- * wider than deep only drew points towards denser spots and away from the
- * rim: measured on the demo chair's seat, the skeleton's largest hole grew
- * from 1.4 r (the anchors) to 6.6 r within 20 iterations, the surface points
- * above a hole took inner ends up to 10 r aside, and once off the scanned
- * top such a point swung round its inner end to hang 3-5 r under the seat
- * (dpoints.h has the measured effect). */
+ * or a sheet under 1% of it is (l is at most 1/ε, at least 1/(1+ε)). Along a
+ * sheet the median of an ellipsoid ten times wider than deep only drew points
+ * towards denser spots and away from the rim: measured on the demo chair's
+ * seat, the skeleton's largest hole grew from 1.4 r (the anchors) to 6.6 r
+ * within 20 iterations, the surface points above a hole took inner ends up
+ * to 10 r aside, and once off the scanned top such a point swung round its
+ * inner end to hang 3-5 r under the seat (dpoints.h has the measured
+ * effect). */
 static double update(work *w, const dp_cloud *q, double r, const dp_skeleton_params *p)
 {
 	double total = 0.0;
