@@ -119,6 +119,64 @@ static void test_plate(void **state)
 	pts_free(&s);
 }
 
+/* The plate of test_plate with side samples at spacing 1 half a step outside
+ * its rim, normals out, in `rows` rows going down (dir -1: an edge band) or
+ * up (+1: a wall rising from the face's edge), settled on evidence. The
+ * rim's evidence says 3, 3.5 and 4 (deeper than a thin plate's half).
+ * Returns the middle's depth. */
+static double plate_with_side(int rows, double dir)
+{
+	int side = 41;
+	size_t face = (size_t)side * side, n = face + 4 * (size_t)side * (size_t)rows;
+	pts s;
+	pts_alloc(&s, n);
+	double up[3] = {0, 0, 1};
+	for (int i = 0; i < side; i++)
+		for (int j = 0; j < side; j++) {
+			size_t k = (size_t)i * side + (size_t)j;
+			int ring = i < j ? i : j;
+			ring = ring < side - 1 - i ? ring : side - 1 - i;
+			ring = ring < side - 1 - j ? ring : side - 1 - j;
+			double p[3] = {i, j, 0};
+			set(&s, k, p, up, ring < 3 ? 3.0 + 0.5 * ring : 8.0, ring < 3 ? DP_SETTLE_FRONT : DP_SETTLE_SLOW);
+		}
+	size_t k = face;
+	for (int e = 0; e < side; e++)
+		for (int h = 1; h <= rows; h++) {
+			double z = dir * (h - 0.5);
+			double ps[4][3] = {{-0.5, e, z}, {side - 0.5, e, z}, {e, -0.5, z}, {e, side - 0.5, z}};
+			double ns[4][3] = {{-1, 0, 0}, {1, 0, 0}, {0, -1, 0}, {0, 1, 0}};
+			for (int f = 0; f < 4; f++)
+				set(&s, k++, ps[f], ns[f], 1.0, DP_SETTLE_FRONT);
+		}
+	run(&s, 10.0);
+	double middle = depth(&s, 20 * 41 + 20);
+	for (size_t m = 0; m < face; m++)
+		if (s.why[m] == DP_SETTLE_FLAT)
+			assert_true(fabs(depth(&s, m) - middle) < 1e-5); /* one depth for the whole face */
+	printf("  plate with %d rows of side samples %s: middle at %.2f\n", rows, dir < 0 ? "below" : "above",
+	       middle);
+	pts_free(&s);
+	return middle;
+}
+
+static double plate_with_band(int rows)
+{
+	return plate_with_side(rows, -1.0);
+}
+
+static void test_plate_band(void **state)
+{
+	(void)state;
+	/* the band's lowest samples lie 2.5 below the face: half of that */
+	assert_true(fabs(plate_with_band(3) - 1.25) < 1e-4);
+	/* a side as tall as the search ball shows is no plate's edge: the
+	 * median of the rim's evidence, 3.5 */
+	assert_true(fabs(plate_with_band(12) - 3.5) < 1e-4);
+	/* a wall rising from the face (a chair's back from its seat) is no edge */
+	assert_true(fabs(plate_with_side(3, 1.0) - 3.5) < 1e-4);
+}
+
 /* A sphere of radius 20 at spacing about 1, normals out, every point slowed
  * at depth 20 but one at the north pole settled at depth 2. Only points
  * whose normal is within the angle of the pole's take its depth. */
@@ -210,6 +268,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_plate),
+		cmocka_unit_test(test_plate_band),
 		cmocka_unit_test(test_curved),
 		cmocka_unit_test(test_order_bend),
 		cmocka_unit_test(test_nothing),

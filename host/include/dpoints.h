@@ -447,6 +447,11 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     creeps in from the rim while the middle keeps sinking (measured on the
  *     demo chair's seat, 4.2 r thick: 4.1 r deep at the rim, 10.5 r in the
  *     middle, and its completed underside bulged; host/stages/flat.h).
+ *     Where an edge band shows below the face (samples within 8 r turned a
+ *     right angle away and lying below its plane, not reaching as far down
+ *     as the search shows), the face is at most half as deep as that band
+ *     is tall: the rim's evidence overshoots a plate's middle (the seat's
+ *     3.5 r for a half thickness of 2.1 r; with the band 1.6 r).
  */
 typedef struct dp_sink_params {
 	double sigma_p;          /* static neighbourhood radius σp, in r; default 5 */

@@ -82,40 +82,51 @@ dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const norm
 	int *idx = dp_alloc_array(n, (size_t)k * sizeof(int));
 	float *d2 = dp_alloc_array(n, (size_t)k * sizeof(float));
 	float *cap = dp_alloc_array(n, sizeof(float)), *own = dp_alloc_array(n, sizeof(float));
+	float *half = dp_alloc_array(n, sizeof(float));
 	int *ridx = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(int));
 	float *rd2 = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(float)), *rdepth = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(float));
+	int *bidx = dp_alloc_array(DP_FLAT_BAND_COUNT, sizeof(int));
+	float *bd2 = dp_alloc_array(DP_FLAT_BAND_COUNT, sizeof(float));
 	uint32_t *origin = dp_alloc_array(n, sizeof(uint32_t));
 	unsigned char *done = calloc(n, 1);
 	/* every sample enters once as evidence or once per link that lowers it */
 	entry *heap = dp_alloc_array(n, ((size_t)k + 1) * sizeof(entry));
 	dp_knn knn = {0};
 	dp_status st = DP_OK;
-	if (!idx || !d2 || !cap || !own || !origin || !ridx || !rd2 || !rdepth || !done || !heap) {
+	if (!idx || !d2 || !cap || !own || !half || !origin || !ridx || !rd2 || !rdepth || !bidx || !bd2 || !done || !heap) {
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
 		goto out;
 	}
 	if ((st = dp_knn_build(&knn, n, p[0], p[1], p[2], err)) != DP_OK ||
 	    (st = dp_knn_self(&knn, k, idx, d2, err)) != DP_OK)
 		goto out;
-	float min_cos = (float)cos(angle_deg * M_PI / 180.0);
-	for (size_t i = 0; i < n; i++)
+	float min_cos = (float)cos(angle_deg * M_PI / 180.0), sin_a = (float)sin(angle_deg * M_PI / 180.0);
+	for (size_t i = 0; i < n; i++) {
 		own[i] = depth(p, q, i);
+		half[i] = INFINITY;
+	}
 	/* An evidence point's depth says how far its own ball reaches, which
 	 * near a rim runs from 0 at the crease to the full thickness a
 	 * thickness in; the face's is the median over the evidence around it
-	 * that faces the same way. */
-	float rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r);
+	 * that faces the same way, and at most half the height of the edge
+	 * band beside it (flat.h). */
+	float rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r), band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r);
 	for (size_t i = 0; i < n; i++) {
 		origin[i] = NO_ORIGIN;
 		cap[i] = INFINITY;
 		if (!evidence(settled_by[i]))
 			continue;
 		int found = dp_knn_radius(&knn, p[0][i], p[1][i], p[2][i], rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
-		size_t m = 0;
+		size_t m = 0, facing = 0, all = 0;
 		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
 			int o = ridx[j];
-			if (o >= 0 && evidence(settled_by[o]) &&
-			    normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o] >= min_cos)
+			if (o < 0)
+				continue;
+			all++;
+			if (normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o] < min_cos)
+				continue;
+			facing++;
+			if (evidence(settled_by[o]))
 				rdepth[m++] = own[o];
 		}
 		if (m == 0)
@@ -123,6 +134,53 @@ dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const norm
 		qsort(rdepth, m, sizeof *rdepth, by_value);
 		cap[i] = rdepth[m / 2];
 		origin[i] = (uint32_t)i;
+		/* only a flat face has an edge band: around a rounded part's point
+		 * the samples facing its way are few, and the ones turned away by
+		 * a right angle are no plate's edge */
+		if (facing < DP_FLAT_FACE_FRACTION * all)
+			continue;
+		found = dp_knn_radius(&knn, p[0][i], p[1][i], p[2][i], band2, bidx, bd2, DP_FLAT_BAND_COUNT);
+		size_t band = 0;
+		float reach = 0.0f, aside2 = INFINITY;
+		for (int j = 0; j < found && j < DP_FLAT_BAND_COUNT; j++) {
+			int o = bidx[j];
+			if (o < 0)
+				continue;
+			float c = normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
+			if (!(fabsf(c) <= sin_a))
+				continue;
+			float d[3] = {p[0][o] - p[0][i], p[1][o] - p[1][i], p[2][o] - p[2][i]};
+			float below = -(normal[0][i] * d[0] + normal[1][i] * d[1] + normal[2][i] * d[2]);
+			if (!(below > DP_FLAT_BAND_BELOW_R * r))
+				continue; /* beside or above the face: no edge of it */
+			reach = fmaxf(reach, below);
+			aside2 = fminf(aside2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - below * below);
+			band++;
+		}
+		/* the search ball shows a band as far down as its radius allows
+		 * beside the point: a band that ends well above that is a plate's */
+		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(band2 - aside2, 0.0f)))
+			half[i] = 0.5f * reach;
+	}
+	/* like the depths, the band's half thickness is the median over the
+	 * evidence around that faces the same way: one short band does not set
+	 * a face */
+	for (size_t i = 0; i < n; i++) {
+		if (origin[i] == NO_ORIGIN)
+			continue;
+		int found = dp_knn_radius(&knn, p[0][i], p[1][i], p[2][i], rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
+		size_t m = 0;
+		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
+			int o = ridx[j];
+			if (o >= 0 && isfinite(half[o]) &&
+			    normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o] >= min_cos)
+				rdepth[m++] = half[o];
+		}
+		if (m == 0)
+			continue;
+		qsort(rdepth, m, sizeof *rdepth, by_value);
+		if (rdepth[m / 2] < cap[i])
+			cap[i] = rdepth[m / 2];
 	}
 	/* Best first, smallest depth first: each sample takes the first depth
 	 * that reaches it and passes on only that one, so the outcome does not
@@ -170,11 +228,14 @@ out:
 	free(d2);
 	free(cap);
 	free(own);
+	free(half);
 	free(origin);
 	free(done);
 	free(heap);
 	free(ridx);
 	free(rd2);
 	free(rdepth);
+	free(bidx);
+	free(bd2);
 	return st;
 }

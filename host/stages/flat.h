@@ -27,7 +27,26 @@
  * passes on only the first that reaches it: where two flat faces meet, each
  * keeps its own. A box's face is no plate, and needs no exception: its side
  * faces are tall, and its face's points settle by the medial test at every
- * depth before slow-down reaches them. */
+ * depth before slow-down reaches them.
+ *
+ * The evidence at a rim overshoots: a top point meets the edge face's front
+ * only where that face's samples are over the front test's far distance
+ * away, and then settles on the partner's height, not on the corner's
+ * bisector (the demo chair's seat: rim evidence 3.0-4.0 r deep, half
+ * thickness 2.1 r). The edge band itself shows the thickness: the samples
+ * within DP_FLAT_BAND_R whose normals are within the angle of perpendicular to
+ * the evidence point's reach as far below its plane as the plate is thick,
+ * so the face is at most half that deep, unless the band reaches
+ * DP_FLAT_BAND_TALL of the depth the search ball shows beside the point (a
+ * tall side: no plate). Like the depths, the half thickness is the median
+ * over the evidence around that faces the same way, so one short band does
+ * not set a face, and only a flat face (half the samples around facing its
+ * way) with samples well below its plane has a band: a rounded part turning
+ * away, or a wall rising from the face, is no edge. Measured on the chair at
+ * 4000 deep points (mean of WLOP seeds 1-6): coverage 0.946 -> 0.969,
+ * flipped normals 3.5% -> 3.0%, 95th percentile accuracy 0.022 -> 0.017
+ * diagonals; its seat's top at 1.6 r (half thickness 2.1 r: WLOP draws the
+ * band's lowest samples up); the bunnies within their seeds' spread. */
 #ifndef DP_STAGES_FLAT_H
 #define DP_STAGES_FLAT_H
 
@@ -43,13 +62,30 @@
  * within this (in r) that face its way, at most DP_FLAT_RIM_COUNT of them. */
 #define DP_FLAT_RIM_R 5.0
 #define DP_FLAT_RIM_COUNT 128
+/* The edge band is sought within DP_FLAT_BAND_R (in r, at most
+ * DP_FLAT_BAND_COUNT samples), needs DP_FLAT_BAND_MIN of them, and one
+ * reaching DP_FLAT_BAND_TALL of the depth that ball shows at the band's
+ * nearest sample is a tall side face, not a plate's edge: plates up to about
+ * 6 r thick show their edge's end. */
+#define DP_FLAT_BAND_R 8.0
+#define DP_FLAT_BAND_COUNT 384
+#define DP_FLAT_BAND_MIN 3
+/* Band samples count only this far (in r) or more below the face's plane:
+ * ones beside it or above it (a rounded part turning away) are no edge. */
+#define DP_FLAT_BAND_BELOW_R 0.25
+#define DP_FLAT_BAND_TALL 0.8
+/* ... and only around an evidence point with at least this fraction of the
+ * samples within DP_FLAT_RIM_R facing its way (a flat face, not a rounded
+ * part whose far side is turned a right angle away). */
+#define DP_FLAT_FACE_FRACTION 0.5
 
 /*
  * Caps the depth |q_i - p_i| of every sample with settled_by[i] ==
  * DP_SETTLE_SLOW at the face depth that reaches it as described above
  * (the median depth of the DP_SETTLE_FRONT and DP_SETTLE_MEDIAL samples
  * within DP_FLAT_RIM_R r of an evidence sample, with normals within
- * angle_deg (> 0) of its), moving q_i towards p_i, and marks it
+ * angle_deg (> 0) of its, or half its edge band's height if less), moving
+ * q_i towards p_i, and marks it
  * DP_SETTLE_FLAT. p: the n samples with unit normals; q: their inner points,
  * updated in place. *capped receives how many moved. Errors: DP_ERR_NOMEM,
  * and the neighbour search's (a span whose squared distances overflow).
