@@ -68,6 +68,14 @@ static size_t run(pts *s, double angle)
 	return capped;
 }
 
+/* Which ring of a side x side face (0: the outermost) sample (i, j) is in. */
+static int ring_of(int i, int j, int side)
+{
+	int ring = i < j ? i : j;
+	ring = ring < side - 1 - i ? ring : side - 1 - i;
+	return ring < side - 1 - j ? ring : side - 1 - j;
+}
+
 /* A 41 x 41 face at spacing 1 facing up. Its outer three rings settled on
  * evidence at depths 1, 2 and 3 (outermost 1), as a rim's points meet the
  * side faces' fronts, except for one point at 0.1; the rest stopped by
@@ -83,9 +91,7 @@ static void test_plate(void **state)
 	for (int i = 0; i < side; i++)
 		for (int j = 0; j < side; j++) {
 			size_t k = (size_t)i * side + (size_t)j;
-			int ring = i < j ? i : j;
-			ring = ring < side - 1 - i ? ring : side - 1 - i;
-			ring = ring < side - 1 - j ? ring : side - 1 - j;
+			int ring = ring_of(i, j, side);
 			double p[3] = {i, j, 0};
 			if (ring < 3)
 				set(&s, k, p, up, ring + 1.0, DP_SETTLE_FRONT);
@@ -134,9 +140,7 @@ static double plate_with_side(int rows, double dir)
 	for (int i = 0; i < side; i++)
 		for (int j = 0; j < side; j++) {
 			size_t k = (size_t)i * side + (size_t)j;
-			int ring = i < j ? i : j;
-			ring = ring < side - 1 - i ? ring : side - 1 - i;
-			ring = ring < side - 1 - j ? ring : side - 1 - j;
+			int ring = ring_of(i, j, side);
 			double p[3] = {i, j, 0};
 			set(&s, k, p, up, ring < 3 ? 3.0 + 0.5 * ring : 8.0, ring < 3 ? DP_SETTLE_FRONT : DP_SETTLE_SLOW);
 		}
