@@ -88,6 +88,15 @@
  * across a wall (sinking's thin-wall rule; meet.c's ball uses the same cut). */
 #define DP_SINK_OPPOSITE_COS -0.70710678f
 
+/* Whether a partner passes the settle test's far or thin-wall test (the
+ * definition below): dist2 = |p_i - p_i'|², dot = n_i · n_i', behind =
+ * n_i' · (p_i' - p_i). The reference and the meeting step share it; the
+ * kernel spells it out in vector form. */
+static inline int dp_sink_partner(float dist2, float far_d2, float dot, float behind, float wall_min)
+{
+	return dist2 > far_d2 || (wall_min > 0.0f && dot < DP_SINK_OPPOSITE_COS && behind > wall_min);
+}
+
 /* The settle test's evidence (Eq. 2 as DESIGN 4.1 reads it). The grid holds the
  * inner points q_i' (all of them, settled or not); sx..nz are the surface
  * point p_i' and normal n_i' of each. For query i (inner point q, surface

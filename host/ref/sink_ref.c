@@ -19,11 +19,10 @@ void dp_ref_sink_front(const dp_sink_front_args *a)
 					continue;
 				float ex = a->px[i] - a->sx[k], ey = a->py[i] - a->sy[k], ez = a->pz[i] - a->sz[k];
 				float dot = a->qnx[i] * a->nx[k] + a->qny[i] * a->ny[k] + a->qnz[i] * a->nz[k];
-				int far = ex * ex + ey * ey + ez * ez > a->far_d2;
 				/* -(n'·(p - p')) = n'·(p' - p): how far p lies behind the partner's plane */
 				float behind = -(a->nx[k] * ex + a->ny[k] * ey + a->nz[k] * ez);
-				int wall = a->wall_min > 0.0f && dot < DP_SINK_OPPOSITE_COS && behind > a->wall_min;
-				if ((far || wall) && dot < best)
+				if (dp_sink_partner(ex * ex + ey * ey + ez * ez, a->far_d2, dot, behind, a->wall_min) &&
+				    dot < best)
 					best = dot;
 			}
 		a->min_dot[i] = best;

@@ -27,8 +27,7 @@ float dp_meet_shift(const dp_meet_args *a, const float q[3], const float p[3], c
 			float w[3] = {a->sx[k] - p[0], a->sy[k] - p[1], a->sz[k] - p[2]};
 			float b = n[0] * a->nx[k] + n[1] * a->ny[k] + n[2] * a->nz[k];
 			float behind = a->nx[k] * w[0] + a->ny[k] * w[1] + a->nz[k] * w[2];
-			int wall = a->wall_min > 0.0f && b < OPPOSITE_COS && behind > a->wall_min;
-			if (!(w[0] * w[0] + w[1] * w[1] + w[2] * w[2] > a->far_d2 || wall))
+			if (!dp_sink_partner(w[0] * w[0] + w[1] * w[1] + w[2] * w[2], a->far_d2, b, behind, a->wall_min))
 				continue;
 			if (b > a->cos_w)
 				continue;
