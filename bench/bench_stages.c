@@ -7,7 +7,7 @@
  *
  *   bench_stages [--sizes C:S[:shape],...|none] [--stages wlop,normals,sink,skeleton,surface,total]
  *                [--ref-max N] [--ref-uncapped] [--quick] [--table1] [--no-statue] [--no-warm-up]
- *                [--no-neighbours] [--no-peak] [--device D] [--data DIR]
+ *                [--no-neighbours] [--no-peak] [--device D] [--data DIR] [--threads N]
  *
  * --table1 runs every row of the paper's Table 1 (22K -> 2K up to 484K ->
  * 47K): the two scans the shared data folder holds (the statue, Fig. 12 B,
@@ -157,6 +157,7 @@ typedef struct options {
 	int neighbours, peak;
 	const char *device;
 	const char *data;
+	int threads; /* host threads of both contexts; 0 = the CPUs */
 } options;
 
 /* "none": the statue only. */
@@ -271,6 +272,12 @@ static int parse_options(int argc, char **argv, options *o)
 				return -1;
 		} else if (!strcmp(arg, "--device")) {
 			o->device = val;
+		} else if (!strcmp(arg, "--threads")) {
+			char *end;
+			long t = strtol(val, &end, 10);
+			if (*end || t < 0 || t > 1000)
+				return -1;
+			o->threads = (int)t;
 		} else if (!strcmp(arg, "--data")) {
 			o->data = val;
 		} else {
@@ -406,7 +413,8 @@ static void print_run(const input_case *in, const char *stage, dp_context *ctx, 
 	if (getloadavg(load, 1) < 1)
 		load[0] = -1.0;
 	print_head(in, stage, backend);
-	printf(",\"device\":\"%s\",\"seconds\":%.4f", dp_context_device_name(ctx), r->seconds);
+	printf(",\"device\":\"%s\",\"host_threads\":%d,\"seconds\":%.4f", dp_context_device_name(ctx),
+	       dp_context_threads(ctx), r->seconds);
 	if (r->iterations >= 0)
 		printf(",\"iterations\":%d,\"pair_evaluations\":%.6g,\"pair_evals_per_s\":%.4g", r->iterations,
 		       r->pairs, r->seconds > 0 ? r->pairs / r->seconds : 0.0);
@@ -909,7 +917,7 @@ int main(int argc, char **argv)
 				"[--stages wlop,normals,sink,skeleton,surface,total]\n"
 				"                    [--ref-max N] [--ref-uncapped] [--quick] [--table1] [--no-statue] "
 				"[--no-warm-up]\n                    [--no-neighbours] [--no-peak] [--device D] "
-				"[--data DIR]\n");
+				"[--data DIR] [--threads N]\n");
 		return 2;
 	}
 	dp_error err = {0};
@@ -920,6 +928,9 @@ int main(int argc, char **argv)
 		dp_context_free(b.cl);
 		return 1;
 	}
+	/* the host loops are the same code on both backends: the same threads */
+	dp_context_set_threads(b.cl, o.threads);
+	dp_context_set_threads(b.ref, o.threads);
 	dp_neighbour_counts cl_nb = {0}, ref_nb = {0};
 	if (o.neighbours) {
 		b.cl->neighbours = b.cl_nb = &cl_nb;

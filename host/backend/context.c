@@ -3,6 +3,7 @@
 #include "backend/ops.h"
 
 #include "core/common.h"
+#include "core/parallel.h"
 
 #include <stdlib.h>
 
@@ -16,6 +17,7 @@ dp_status dp_context_create(dp_context **out, dp_backend_kind kind, const char *
 		return dp_fail(err, DP_ERR_NOMEM, "out of memory creating a context");
 	ctx->kind = kind;
 	ctx->started = dp_seconds();
+	ctx->threads = dp_parallel_cpus();
 	if (kind == DP_BACKEND_CL) {
 		dp_status st = dp_cl_open(&ctx->cl, device, err);
 		if (st == DP_OK && (st = dp_ops_check_kernels(&ctx->cl, err)) != DP_OK)
@@ -53,6 +55,16 @@ void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user)
 {
 	ctx->progress = fn;
 	ctx->progress_user = user;
+}
+
+void dp_context_set_threads(dp_context *ctx, int threads)
+{
+	ctx->threads = threads < 1 ? dp_parallel_cpus() : threads > DP_PARALLEL_MAX ? DP_PARALLEL_MAX : threads;
+}
+
+int dp_context_threads(const dp_context *ctx)
+{
+	return ctx->threads;
 }
 
 dp_status dp_progress(dp_context *ctx, const char *stage, int iteration, double value, dp_error *err)

@@ -13,6 +13,7 @@ struct dp_context {
 	dp_progress_fn progress;
 	void *progress_user;
 	double started;          /* dp_seconds() at creation, for progress reports */
+	int threads;             /* host loops' threads (core/parallel.h), >= 1 */
 };
 
 /* Reports one iteration of a stage to the progress callback, if any.

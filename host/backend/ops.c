@@ -2,6 +2,7 @@
 #include "backend/neighbours.h"
 
 #include "core/common.h"
+#include "core/parallel.h"
 
 #include <string.h>
 
@@ -125,6 +126,41 @@ static dp_status check_reach(const op_call *c, dp_error *err)
 	return DP_OK;
 }
 
+/* Candidate pairs are counted for the reports on the host, per query, as
+ * many as the kernel's cells hold: on a GPU that count cost more than some
+ * kernels, so it is split across threads; each range's sum is an integer
+ * below 2^53, exact in a double, and the ranges are added in order. */
+#define CANDIDATES_MIN_ITEMS 4096
+
+typedef struct candidates_job {
+	const op_call *c;
+	double part_sum[DP_PARALLEL_MAX];
+} candidates_job;
+
+static void candidates_range(void *arg, size_t begin, size_t end, int part)
+{
+	candidates_job *job = arg;
+	const op_call *c = job->c;
+	size_t m = end - begin;
+	const float *x = c->pos[0] + begin, *y = c->pos[1] + begin, *z = c->pos[2] + begin;
+	if (c->reach)
+		job->part_sum[part] = dp_grid_candidates_reach(c->grid, m, x, y, z, c->reach + 3 * begin);
+	else if (c->has_cells)
+		job->part_sum[part] = dp_grid_candidates_cells(c->grid, m, x, y, z, c->cells);
+	else
+		job->part_sum[part] = dp_grid_candidates(c->grid, m, x, y, z);
+}
+
+static double candidates(int threads, const op_call *c)
+{
+	candidates_job job = {.c = c};
+	dp_parallel_for(threads, c->nq, CANDIDATES_MIN_ITEMS, candidates_range, &job);
+	double total = 0.0;
+	for (int k = 0; k < dp_parallel_parts(threads, c->nq, CANDIDATES_MIN_ITEMS); k++)
+		total += job.part_sum[k];
+	return total;
+}
+
 static dp_status run(dp_context *ctx, op_call *c, void (*ref)(const void *), const void *a, dp_error *err)
 {
 	if (c->npos != 3 || !c->grid || c->attr_before_grid || (c->metric && !c->reach))
@@ -134,17 +170,11 @@ static dp_status run(dp_context *ctx, op_call *c, void (*ref)(const void *), con
 		dp_status st = check_reach(c, err);
 		if (st != DP_OK)
 			return st;
-		ctx->pair_evaluations +=
-			dp_grid_candidates_reach(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->reach);
-	} else if (c->has_cells) {
-		if (c->cells < 1 || c->cells > c->grid->margin)
-			return dp_fail(err, DP_ERR_ARG, "%s: reach %d outside 1..the grid's margin of %d cells", c->op,
-				       c->cells, c->grid->margin);
-		ctx->pair_evaluations +=
-			dp_grid_candidates_cells(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->cells);
-	} else {
-		ctx->pair_evaluations += dp_grid_candidates(c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2]);
+	} else if (c->has_cells && (c->cells < 1 || c->cells > c->grid->margin)) {
+		return dp_fail(err, DP_ERR_ARG, "%s: reach %d outside 1..the grid's margin of %d cells", c->op, c->cells,
+			       c->grid->margin);
 	}
+	ctx->pair_evaluations += candidates(ctx->threads, c);
 	if (c->metric)
 		dp_count_neighbours_metric(ctx, c->kernel, c->grid, c->nq, c->pos[0], c->pos[1], c->pos[2], c->metric,
 					   c->reach, c->radius);

@@ -76,6 +76,9 @@ int dp_cli_batch_run(dp_batch *b, const dp_consolidate_job *job, int backend, co
 		rc = cli_open_context(b->cmd, backend, *spec ? spec : NULL, &ws[d].ctx);
 		if (rc)
 			break;
+		/* workers share the CPUs: each one's host loops get a share */
+		int cpus = dp_context_threads(ws[d].ctx), share = cpus / (int)nw;
+		dp_context_set_threads(ws[d].ctx, job->threads > 0 ? job->threads : share > 1 ? share : 1);
 		ws[d].b = b;
 		ws[d].job = *job;
 		ws[d].job.device_name = dp_context_device_name(ws[d].ctx);

@@ -224,6 +224,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "OpenCL device: index or name substring from `dpoints devices` (env DPOINTS_DEVICE); a batch also takes "
 		 "all, or a list such as 0,1: one worker per entry",
 		 NULL, NULL},
+		{"--threads", CLI_INT, &job.threads,
+		 "host threads of each worker's loops over points (0 = the CPUs, shared among workers)", NULL, NULL},
 		{"--save-stages", CLI_FLAG, &job.save_stages, "also write wlop.ply and anchors.ply", NULL, NULL},
 		{"--render", CLI_FLAG, &job.render, "also render input, skeleton, surface and deep points to PNGs",
 		 NULL, NULL},
@@ -258,6 +260,10 @@ int dp_cmd_consolidate(int argc, char **argv)
 	if (samples && parse_samples(samples, &p->wlop.samples, &job.samples_factor)) {
 		fprintf(stderr, "dpoints %s: --samples: '%s' is neither a positive count nor a factor like 4x (see dpoints %s --help)\n",
 			cmd, samples, cmd);
+		return DP_EXIT_INPUT;
+	}
+	if (job.threads < 0) {
+		fprintf(stderr, "dpoints %s: --threads: %d is not a count >= 0 (0 = the CPUs)\n", cmd, job.threads);
 		return DP_EXIT_INPUT;
 	}
 	if (!up_given)

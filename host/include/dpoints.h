@@ -211,6 +211,18 @@ typedef int (*dp_progress_fn)(void *user, const char *stage, int iteration, doub
  * with a call running on ctx. */
 DP_API void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *user);
 
+/*
+ * How many threads the host side of every later call on ctx may use for its
+ * loops over points (the sinking's medial test, the surface stage's normals,
+ * pair accounting); the OpenCL kernels are the device's business. 0 means the
+ * online CPUs (the default), 1 one thread; at most 64 are used. Results do not
+ * depend on it. Each loop starts its threads and joins them before it returns,
+ * so nothing runs between calls. Not thread-safe with a call running on ctx.
+ */
+DP_API void dp_context_set_threads(dp_context *ctx, int threads);
+/* The thread count later calls use (never 0: the resolved default). */
+DP_API int dp_context_threads(const dp_context *ctx);
+
 typedef enum dp_device_type {
 	DP_DEVICE_CPU = 0,
 	DP_DEVICE_GPU = 1,

@@ -8,6 +8,7 @@
 #include "stages/meet.h"
 #include "stages/width.h"
 #include "core/common.h"
+#include "core/parallel.h"
 #include "knn/kdtree.h"
 #include "knn/knn.h"
 
@@ -211,6 +212,10 @@ static float depth_of(const sink_state *st, size_t i)
 	return sqrtf(dx * dx + dy * dy + dz * dz);
 }
 
+/* A thread of the medial test gets at least this many points: a test is a
+ * few microseconds, a thread's start and join tens. */
+#define MEDIAL_MIN_ITEMS 256
+
 /* The medial test: an inner point nearer to some surface point than to its
  * own by more than `margin` has passed the medial axis (the centre of its
  * inscribed ball), so it settles. Opposing fronts cannot stop points whose
@@ -219,24 +224,43 @@ static float depth_of(const sink_state *st, size_t i)
  * deep points ended ~100 r long. The scanned sides of the same part still
  * bound the ball. Distances are exact, on the host: the ball of radius
  * depth - margin around the inner point must hold no surface point. */
-static void settle_past_medial(sink_state *st, float margin, size_t *settled)
+typedef struct medial_job {
+	sink_state *st;
+	float margin;
+} medial_job;
+
+/* Marks listed points whose ball holds a surface point: list entries are
+ * distinct points, so the threads write disjoint bytes of `settled`. */
+static void medial_range(void *arg, size_t begin, size_t end, int part)
+{
+	(void)part;
+	const medial_job *job = arg;
+	sink_state *st = job->st;
+	for (size_t j = begin; j < end; j++) {
+		uint32_t i = st->list[j];
+		float d = depth_of(st, i);
+		/* only points deeper than the margin can be past the axis by more */
+		float limit = d - job->margin;
+		if (d > job->margin &&
+		    dp_kdtree_any_within(&st->surface_tree, st->q[0][i], st->q[1][i], st->q[2][i], limit * limit))
+			st->settled[i] = DP_SETTLE_MEDIAL;
+	}
+}
+
+static void settle_past_medial(int threads, sink_state *st, float margin, size_t *settled)
 {
 	*settled = 0;
 	if (!(margin > 0.0f))
 		return;
+	medial_job job = {st, margin};
+	dp_parallel_for(threads, st->nlist, MEDIAL_MIN_ITEMS, medial_range, &job);
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
-		float d = depth_of(st, i);
-		/* only points deeper than the margin can be past the axis by more */
-		float limit = d - margin;
-		if (d > margin &&
-		    dp_kdtree_any_within(&st->surface_tree, st->q[0][i], st->q[1][i], st->q[2][i], limit * limit)) {
-			st->settled[i] = DP_SETTLE_MEDIAL;
+		if (st->settled[i] == DP_SETTLE_MEDIAL)
 			(*settled)++;
-		} else {
+		else
 			st->list[kept++] = i;
-		}
 	}
 	st->nlist = kept;
 }
@@ -399,7 +423,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)(p->wall_min_r * r), (float)cos_w,
 				     meet_shift, &by_front, err);
 		if (rc == DP_OK) {
-			settle_past_medial(st, medial_margin, &by_medial);
+			settle_past_medial(ctx->threads, st, medial_margin, &by_medial);
 			settle_by_width(st, &by_width);
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, slow_margin, &by_slow, err);
 		}

@@ -9,6 +9,7 @@
 #include "backend/ops.h"
 #include "core/common.h"
 #include "core/eig3.h"
+#include "core/parallel.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -22,6 +23,9 @@
  * anchors, slab and torus): 1 to 2 are equally fast, 2.5 and 3 about 25%
  * slower. */
 #define SKELETON_CELL_CUTOFFS 1.5
+/* A thread of the PCA frames gets at least this many points (a Jacobi
+ * eigen-decomposition is about a third of a microsecond). */
+#define FRAMES_MIN_ITEMS 2048
 
 void dp_skeleton_params_default(dp_skeleton_params *p)
 {
@@ -142,10 +146,13 @@ static void unit_normals(work *w, const dp_cloud *h)
 	}
 }
 
-/* PCA axes of every neighbourhood (eigenvectors of its covariance). */
-static void frames_from_cov(work *w, size_t n)
+/* PCA axes of neighbourhoods [begin, end) (eigenvectors of their
+ * covariance); each writes only its own frame. */
+static void frames_range(void *arg, size_t begin, size_t end, int part)
 {
-	for (size_t i = 0; i < n; i++) {
+	(void)part;
+	work *w = arg;
+	for (size_t i = begin; i < end; i++) {
 		double a[6], ev[3], v[3][3];
 		for (int k = 0; k < 6; k++)
 			a[k] = w->cov[6 * i + k];
@@ -154,6 +161,11 @@ static void frames_from_cov(work *w, size_t n)
 			for (int c = 0; c < 3; c++)
 				w->frames[9 * i + 3 * m + c] = (float)v[m][c];
 	}
+}
+
+static void frames_from_cov(int threads, work *w, size_t n)
+{
+	dp_parallel_for(threads, n, FRAMES_MIN_ITEMS, frames_range, w);
 }
 
 /* The metric rows v^m / (l^m r) of the ellipsoid distance. */
@@ -256,7 +268,7 @@ static dp_status iterate(dp_context *ctx, const dp_cloud *h, dp_cloud *q, double
 	};
 	if ((st = dp_op_skeleton_cov(ctx, &ca, err)) != DP_OK)
 		return st;
-	frames_from_cov(w, n);
+	frames_from_cov(ctx->threads, w, n);
 	dp_grid_gather(&w->near, w->ux, w->gnx);
 	dp_grid_gather(&w->near, w->uy, w->gny);
 	dp_grid_gather(&w->near, w->uz, w->gnz);

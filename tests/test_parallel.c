@@ -1,0 +1,143 @@
+/* Host loops split across threads (core/parallel.h): every item runs once,
+ * in its own range, and a whole consolidation gives the same bytes whatever
+ * dp_context_set_threads says. */
+#include "testkit.h"
+
+#include "core/parallel.h"
+
+#include <stdlib.h>
+#include <string.h>
+
+typedef struct visits {
+	unsigned char *count;
+	size_t begin[DP_PARALLEL_MAX], end[DP_PARALLEL_MAX];
+	int seen[DP_PARALLEL_MAX];
+} visits;
+
+static void visit(void *arg, size_t begin, size_t end, int part)
+{
+	visits *v = arg;
+	v->begin[part] = begin;
+	v->end[part] = end;
+	v->seen[part]++;
+	for (size_t i = begin; i < end; i++)
+		v->count[i]++;
+}
+
+static void test_ranges(void **state)
+{
+	(void)state;
+	const int threads[] = {0, 1, 2, 3, 7, 64, 1000};
+	const size_t sizes[] = {0, 1, 5, 255, 256, 1000, 4097};
+	const size_t mins[] = {0, 1, 256};
+	unsigned char *count = calloc(4097, 1);
+	assert_non_null(count);
+	for (size_t t = 0; t < sizeof threads / sizeof *threads; t++)
+		for (size_t s = 0; s < sizeof sizes / sizeof *sizes; s++)
+			for (size_t m = 0; m < sizeof mins / sizeof *mins; m++) {
+				size_t n = sizes[s];
+				int parts = dp_parallel_parts(threads[t], n, mins[m]);
+				assert_true(parts >= 1 && parts <= DP_PARALLEL_MAX);
+				assert_true(parts <= (threads[t] > 1 ? threads[t] : 1));
+				if (parts > 1)
+					assert_true(n / (size_t)parts >= (mins[m] ? mins[m] : 1));
+				visits v = {.count = count};
+				memset(count, 0, 4097);
+				dp_parallel_for(threads[t], n, mins[m], visit, &v);
+				for (size_t i = 0; i < n; i++)
+					assert_int_equal(count[i], 1);
+				/* contiguous ranges in part order, each run once */
+				size_t next = 0;
+				for (int k = 0; k < parts; k++) {
+					assert_int_equal(v.seen[k], 1);
+					assert_int_equal(v.begin[k], next);
+					next = v.end[k];
+				}
+				assert_int_equal(next, n);
+				for (int k = parts; k < DP_PARALLEL_MAX; k++)
+					assert_int_equal(v.seen[k], 0);
+			}
+	/* enough work for two threads on a 64-thread request */
+	assert_int_equal(dp_parallel_parts(64, 512, 256), 2);
+	assert_int_equal(dp_parallel_parts(2, 100000, 256), 2);
+	free(count);
+}
+
+static void test_context_threads(void **state)
+{
+	(void)state;
+	dp_context *ctx = tk_ref_context();
+	dp_context_set_threads(ctx, 3);
+	assert_int_equal(dp_context_threads(ctx), 3);
+	dp_context_set_threads(ctx, 1000);
+	assert_int_equal(dp_context_threads(ctx), DP_PARALLEL_MAX);
+	dp_context_set_threads(ctx, 0);
+	assert_int_equal(dp_context_threads(ctx), dp_parallel_cpus());
+	assert_true(dp_context_threads(ctx) >= 1);
+}
+
+static void assert_same_cloud(const dp_cloud *a, const dp_cloud *b, const char *what)
+{
+	print_message("%s: %zu points\n", what, a->n);
+	assert_int_equal(a->n, b->n);
+	assert_true(a->n > 0);
+	const float *fa[6] = {a->x, a->y, a->z, a->nx, a->ny, a->nz}, *fb[6] = {b->x, b->y, b->z, b->nx, b->ny, b->nz};
+	for (int c = 0; c < 6; c++) {
+		assert_true((fa[c] == NULL) == (fb[c] == NULL));
+		if (fa[c])
+			assert_memory_equal(fa[c], fb[c], a->n * sizeof(float));
+	}
+}
+
+/* Large enough that every threaded loop (medial test, PCA frames, normal
+ * update, pair counts) really splits: 9000 deep points, no coarse level. */
+static void test_same_result(void **state)
+{
+	(void)state;
+	dp_cloud scan = {0};
+	tk_scan_shape("torus", 3, 200, 0.003, 5, NULL, NULL, &scan);
+	dp_params params;
+	dp_params_default(&params);
+	params.wlop.samples = 9000;
+	params.refine.coarse_samples = 0;
+	params.surface.max_iters = 25;
+	dp_context *ctx = tk_cl_context();
+	dp_result res[2];
+	const int threads[2] = {1, 3};
+	for (int k = 0; k < 2; k++) {
+		dp_error err = {0};
+		dp_context_set_threads(ctx, threads[k]);
+		if (dp_consolidate(ctx, &scan, &params, &res[k], &err) != DP_OK)
+			fail_msg("%s", err.message);
+	}
+	dp_context_set_threads(ctx, 0);
+	assert_int_equal(res[0].surface.n, 9000);
+	assert_same_cloud(&res[0].wlop, &res[1].wlop, "wlop");
+	assert_same_cloud(&res[0].anchors, &res[1].anchors, "anchors");
+	assert_memory_equal(res[0].settled_by, res[1].settled_by, res[0].anchors.n);
+	assert_same_cloud(&res[0].skeleton, &res[1].skeleton, "skeleton");
+	assert_same_cloud(&res[0].surface, &res[1].surface, "surface");
+	assert_memory_equal(res[0].eta, res[1].eta, res[0].surface.n * sizeof(float));
+	assert_memory_equal(res[0].length, res[1].length, res[0].surface.n * sizeof(float));
+	/* the medial test settled some, the normals' count and the pair counts agree */
+	assert_true(res[0].sink_stats.settled_medial > 0);
+	assert_int_equal(res[0].sink_stats.settled_medial, res[1].sink_stats.settled_medial);
+	assert_int_equal(res[0].surface_stats.normals_disagreeing, res[1].surface_stats.normals_disagreeing);
+	assert_true(res[0].surface_stats.pair_evaluations > 0.0);
+	assert_true(res[0].surface_stats.pair_evaluations == res[1].surface_stats.pair_evaluations);
+	assert_true(res[0].skeleton_stats.pair_evaluations == res[1].skeleton_stats.pair_evaluations);
+	assert_true(res[0].sink_stats.pair_evaluations == res[1].sink_stats.pair_evaluations);
+	for (int k = 0; k < 2; k++)
+		dp_result_free(&res[k]);
+	dp_cloud_free(&scan);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_ranges),
+		cmocka_unit_test(test_context_threads),
+		cmocka_unit_test(test_same_result),
+	};
+	return tk_exit_status(cmocka_run_group_tests(tests, NULL, tk_teardown_contexts));
+}
