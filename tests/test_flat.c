@@ -63,7 +63,7 @@ static size_t run(pts *s, double angle)
 	size_t capped = 0;
 	dp_error err = {0};
 	const float *p[3] = {s->p[0], s->p[1], s->p[2]}, *n[3] = {s->nrm[0], s->nrm[1], s->nrm[2]};
-	if (dp_flat_cap(s->n, p, n, s->q, s->why, 1.0, angle, &capped, &err) != DP_OK)
+	if (dp_flat_cap(2, s->n, p, n, s->q, s->why, 1.0, angle, &capped, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	return capped;
 }

@@ -89,13 +89,14 @@ static void assert_same_cloud(const dp_cloud *a, const dp_cloud *b, const char *
 	}
 }
 
-/* Large enough that every threaded loop (medial test, PCA frames, normal
- * update, pair counts) really splits: 9000 deep points, no coarse level. */
+/* Large enough that every threaded loop (medial test, width bound, flat
+ * faces, PCA frames, normal update, pair counts) really splits: the demo
+ * chair (flat faces, thin legs) at 9000 deep points, no coarse level. */
 static void test_same_result(void **state)
 {
 	(void)state;
 	dp_cloud scan = {0};
-	tk_scan_shape("torus", 3, 200, 0.003, 5, NULL, NULL, &scan);
+	tk_scan_shape("chair", 2, 256, 0.003, 5, NULL, NULL, &scan);
 	dp_params params;
 	dp_params_default(&params);
 	params.wlop.samples = 9000;
@@ -119,8 +120,13 @@ static void test_same_result(void **state)
 	assert_same_cloud(&res[0].surface, &res[1].surface, "surface");
 	assert_memory_equal(res[0].eta, res[1].eta, res[0].surface.n * sizeof(float));
 	assert_memory_equal(res[0].length, res[1].length, res[0].surface.n * sizeof(float));
-	/* the medial test settled some, the normals' count and the pair counts agree */
+	/* the medial test, the width bound and the flat faces settled some;
+	 * their counts, the normals' and the pair counts agree */
 	assert_true(res[0].sink_stats.settled_medial > 0);
+	assert_true(res[0].sink_stats.settled_width > 0);
+	assert_true(res[0].sink_stats.settled_flat > 0);
+	assert_int_equal(res[0].sink_stats.settled_width, res[1].sink_stats.settled_width);
+	assert_int_equal(res[0].sink_stats.settled_flat, res[1].sink_stats.settled_flat);
 	assert_int_equal(res[0].sink_stats.settled_medial, res[1].sink_stats.settled_medial);
 	assert_int_equal(res[0].surface_stats.normals_disagreeing, res[1].surface_stats.normals_disagreeing);
 	assert_true(res[0].surface_stats.pair_evaluations > 0.0);

@@ -2,12 +2,16 @@
 #include "stages/flat.h"
 
 #include "core/common.h"
+#include "core/parallel.h"
 #include "knn/knn.h"
 
 #include <math.h>
 #include <stdlib.h>
 
 #define NO_ORIGIN UINT32_MAX
+/* A thread of the evidence passes gets at least this many samples (two
+ * radius searches each, tens of microseconds). */
+#define FLAT_MIN_ITEMS 512
 
 static int by_value(const void *a, const void *b)
 {
@@ -72,7 +76,116 @@ static float depth(const float *const p[3], float *const q[3], size_t i)
 	return sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
-dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
+/* What the per-evidence passes share; each range writes only its own
+ * samples' slots and has its own search buffers. */
+typedef struct flat_job {
+	const float *const *p, *const *normal;
+	const unsigned char *settled_by;
+	const dp_knn *knn;
+	const float *own;
+	float *cap, *half;
+	uint32_t *origin;
+	float rim2, band2, min_cos, sin_a;
+	double below_min;
+	int *ridx, *bidx;        /* DP_FLAT_RIM_COUNT, DP_FLAT_BAND_COUNT per part */
+	float *rd2, *rdepth, *bd2;
+} flat_job;
+
+static float cosine(const float *const normal[3], size_t i, size_t o)
+{
+	return normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
+}
+
+/* An evidence point's depth says how far its own ball reaches, which near a
+ * rim runs from 0 at the crease to the full thickness a thickness in; the
+ * face's is the median over the evidence around it that faces the same way,
+ * and at most half the height of the edge band beside it (flat.h). */
+static void evidence_range(void *arg, size_t begin, size_t end, int part)
+{
+	flat_job *job = arg;
+	const float *const *p = job->p, *const *normal = job->normal;
+	int *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT, *bidx = job->bidx + (size_t)part * DP_FLAT_BAND_COUNT;
+	float *rd2 = job->rd2 + (size_t)part * DP_FLAT_RIM_COUNT, *rdepth = job->rdepth + (size_t)part * DP_FLAT_RIM_COUNT;
+	float *bd2 = job->bd2 + (size_t)part * DP_FLAT_BAND_COUNT;
+	for (size_t i = begin; i < end; i++) {
+		job->origin[i] = NO_ORIGIN;
+		job->cap[i] = INFINITY;
+		if (!evidence(job->settled_by[i]))
+			continue;
+		int found = dp_knn_radius(job->knn, p[0][i], p[1][i], p[2][i], job->rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
+		size_t m = 0, facing = 0, all = 0;
+		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
+			int o = ridx[j];
+			if (o < 0)
+				continue;
+			all++;
+			if (cosine(normal, i, (size_t)o) < job->min_cos)
+				continue;
+			facing++;
+			if (evidence(job->settled_by[o]))
+				rdepth[m++] = job->own[o];
+		}
+		if (m == 0)
+			continue; /* the radius search missed the point itself: NaN coordinates, checked before */
+		qsort(rdepth, m, sizeof *rdepth, by_value);
+		job->cap[i] = rdepth[m / 2];
+		job->origin[i] = (uint32_t)i;
+		/* only a flat face has an edge band: around a rounded part's point
+		 * the samples facing its way are few, and the ones turned away by
+		 * a right angle are no plate's edge */
+		if (facing < DP_FLAT_FACE_FRACTION * all)
+			continue;
+		found = dp_knn_radius(job->knn, p[0][i], p[1][i], p[2][i], job->band2, bidx, bd2, DP_FLAT_BAND_COUNT);
+		size_t band = 0;
+		float reach = 0.0f, aside2 = INFINITY;
+		for (int j = 0; j < found && j < DP_FLAT_BAND_COUNT; j++) {
+			int o = bidx[j];
+			if (o < 0)
+				continue;
+			if (!(fabsf(cosine(normal, i, (size_t)o)) <= job->sin_a))
+				continue;
+			float d[3] = {p[0][o] - p[0][i], p[1][o] - p[1][i], p[2][o] - p[2][i]};
+			float below = -(normal[0][i] * d[0] + normal[1][i] * d[1] + normal[2][i] * d[2]);
+			if (!(below > job->below_min))
+				continue; /* beside or above the face: no edge of it */
+			reach = fmaxf(reach, below);
+			aside2 = fminf(aside2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - below * below);
+			band++;
+		}
+		/* the search ball shows a band as far down as its radius allows
+		 * beside the point: a band that ends well above that is a plate's */
+		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(job->band2 - aside2, 0.0f)))
+			job->half[i] = 0.5f * reach;
+	}
+}
+
+/* Like the depths, the band's half thickness is the median over the evidence
+ * around that faces the same way: one short band does not set a face. */
+static void band_median_range(void *arg, size_t begin, size_t end, int part)
+{
+	flat_job *job = arg;
+	const float *const *p = job->p;
+	int *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT;
+	float *rd2 = job->rd2 + (size_t)part * DP_FLAT_RIM_COUNT, *rdepth = job->rdepth + (size_t)part * DP_FLAT_RIM_COUNT;
+	for (size_t i = begin; i < end; i++) {
+		if (job->origin[i] == NO_ORIGIN)
+			continue;
+		int found = dp_knn_radius(job->knn, p[0][i], p[1][i], p[2][i], job->rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
+		size_t m = 0;
+		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
+			int o = ridx[j];
+			if (o >= 0 && isfinite(job->half[o]) && cosine(job->normal, i, (size_t)o) >= job->min_cos)
+				rdepth[m++] = job->half[o];
+		}
+		if (m == 0)
+			continue;
+		qsort(rdepth, m, sizeof *rdepth, by_value);
+		if (rdepth[m / 2] < job->cap[i])
+			job->cap[i] = rdepth[m / 2];
+	}
+}
+
+dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
 		      unsigned char *settled_by, double r, double angle_deg, size_t *capped, dp_error *err)
 {
 	*capped = 0;
@@ -83,10 +196,13 @@ dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const norm
 	float *d2 = dp_alloc_array(n, (size_t)k * sizeof(float));
 	float *cap = dp_alloc_array(n, sizeof(float)), *own = dp_alloc_array(n, sizeof(float));
 	float *half = dp_alloc_array(n, sizeof(float));
-	int *ridx = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(int));
-	float *rd2 = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(float)), *rdepth = dp_alloc_array(DP_FLAT_RIM_COUNT, sizeof(float));
-	int *bidx = dp_alloc_array(DP_FLAT_BAND_COUNT, sizeof(int));
-	float *bd2 = dp_alloc_array(DP_FLAT_BAND_COUNT, sizeof(float));
+	/* search buffers, one set per range */
+	size_t parts = (size_t)dp_parallel_parts(threads, n, FLAT_MIN_ITEMS);
+	int *ridx = dp_alloc_array(parts, DP_FLAT_RIM_COUNT * sizeof(int));
+	float *rd2 = dp_alloc_array(parts, DP_FLAT_RIM_COUNT * sizeof(float));
+	float *rdepth = dp_alloc_array(parts, DP_FLAT_RIM_COUNT * sizeof(float));
+	int *bidx = dp_alloc_array(parts, DP_FLAT_BAND_COUNT * sizeof(int));
+	float *bd2 = dp_alloc_array(parts, DP_FLAT_BAND_COUNT * sizeof(float));
 	uint32_t *origin = dp_alloc_array(n, sizeof(uint32_t));
 	unsigned char *done = calloc(n, 1);
 	/* every sample enters once as evidence or once per link that lowers it */
@@ -105,83 +221,15 @@ dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const norm
 		own[i] = depth(p, q, i);
 		half[i] = INFINITY;
 	}
-	/* An evidence point's depth says how far its own ball reaches, which
-	 * near a rim runs from 0 at the crease to the full thickness a
-	 * thickness in; the face's is the median over the evidence around it
-	 * that faces the same way, and at most half the height of the edge
-	 * band beside it (flat.h). */
-	float rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r), band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r);
-	for (size_t i = 0; i < n; i++) {
-		origin[i] = NO_ORIGIN;
-		cap[i] = INFINITY;
-		if (!evidence(settled_by[i]))
-			continue;
-		int found = dp_knn_radius(&knn, p[0][i], p[1][i], p[2][i], rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
-		size_t m = 0, facing = 0, all = 0;
-		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
-			int o = ridx[j];
-			if (o < 0)
-				continue;
-			all++;
-			if (normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o] < min_cos)
-				continue;
-			facing++;
-			if (evidence(settled_by[o]))
-				rdepth[m++] = own[o];
-		}
-		if (m == 0)
-			continue; /* the radius search missed the point itself: NaN coordinates, checked before */
-		qsort(rdepth, m, sizeof *rdepth, by_value);
-		cap[i] = rdepth[m / 2];
-		origin[i] = (uint32_t)i;
-		/* only a flat face has an edge band: around a rounded part's point
-		 * the samples facing its way are few, and the ones turned away by
-		 * a right angle are no plate's edge */
-		if (facing < DP_FLAT_FACE_FRACTION * all)
-			continue;
-		found = dp_knn_radius(&knn, p[0][i], p[1][i], p[2][i], band2, bidx, bd2, DP_FLAT_BAND_COUNT);
-		size_t band = 0;
-		float reach = 0.0f, aside2 = INFINITY;
-		for (int j = 0; j < found && j < DP_FLAT_BAND_COUNT; j++) {
-			int o = bidx[j];
-			if (o < 0)
-				continue;
-			float c = normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
-			if (!(fabsf(c) <= sin_a))
-				continue;
-			float d[3] = {p[0][o] - p[0][i], p[1][o] - p[1][i], p[2][o] - p[2][i]};
-			float below = -(normal[0][i] * d[0] + normal[1][i] * d[1] + normal[2][i] * d[2]);
-			if (!(below > DP_FLAT_BAND_BELOW_R * r))
-				continue; /* beside or above the face: no edge of it */
-			reach = fmaxf(reach, below);
-			aside2 = fminf(aside2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - below * below);
-			band++;
-		}
-		/* the search ball shows a band as far down as its radius allows
-		 * beside the point: a band that ends well above that is a plate's */
-		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(band2 - aside2, 0.0f)))
-			half[i] = 0.5f * reach;
-	}
-	/* like the depths, the band's half thickness is the median over the
-	 * evidence around that faces the same way: one short band does not set
-	 * a face */
-	for (size_t i = 0; i < n; i++) {
-		if (origin[i] == NO_ORIGIN)
-			continue;
-		int found = dp_knn_radius(&knn, p[0][i], p[1][i], p[2][i], rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
-		size_t m = 0;
-		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
-			int o = ridx[j];
-			if (o >= 0 && isfinite(half[o]) &&
-			    normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o] >= min_cos)
-				rdepth[m++] = half[o];
-		}
-		if (m == 0)
-			continue;
-		qsort(rdepth, m, sizeof *rdepth, by_value);
-		if (rdepth[m / 2] < cap[i])
-			cap[i] = rdepth[m / 2];
-	}
+	flat_job job = {
+		.p = p, .normal = normal, .settled_by = settled_by, .knn = &knn, .own = own, .cap = cap,
+		.half = half, .origin = origin, .min_cos = min_cos, .sin_a = sin_a,
+		.rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r), .band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r),
+		.below_min = DP_FLAT_BAND_BELOW_R * r, .ridx = ridx, .bidx = bidx, .rd2 = rd2, .rdepth = rdepth,
+		.bd2 = bd2,
+	};
+	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, evidence_range, &job);
+	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, band_median_range, &job);
 	/* Best first, smallest depth first: each sample takes the first depth
 	 * that reaches it and passes on only that one, so the outcome does not
 	 * depend on the samples' order. */

@@ -87,10 +87,12 @@
  * angle_deg (> 0) of its, or half its edge band's height if less), moving
  * q_i towards p_i, and marks it
  * DP_SETTLE_FLAT. p: the n samples with unit normals; q: their inner points,
- * updated in place. *capped receives how many moved. Errors: DP_ERR_NOMEM,
+ * updated in place. *capped receives how many moved. The searches run on up
+ * to `threads` threads (core/parallel.h); the result does not depend on it.
+ * Errors: DP_ERR_NOMEM,
  * and the neighbour search's (a span whose squared distances overflow).
  */
-dp_status dp_flat_cap(size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
+dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
 		      unsigned char *settled_by, double r, double angle_deg, size_t *capped, dp_error *err);
 
 #endif

@@ -212,8 +212,8 @@ static float depth_of(const sink_state *st, size_t i)
 	return sqrtf(dx * dx + dy * dy + dz * dz);
 }
 
-/* A thread of the medial test gets at least this many points: a test is a
- * few microseconds, a thread's start and join tens. */
+/* A thread of the medial test and the width bound gets at least this many
+ * points: a test is a few microseconds, a thread's start and join tens. */
 #define MEDIAL_MIN_ITEMS 256
 
 /* The medial test: an inner point nearer to some surface point than to its
@@ -266,21 +266,32 @@ static void settle_past_medial(int threads, sink_state *st, float margin, size_t
 }
 
 /* The width bound (width.h): an inner point as deep as its surface point's
- * part is wide has left the part, or is about to. */
-static void settle_by_width(sink_state *st, size_t *settled)
+ * part is wide has left the part, or is about to. Each point reads only its
+ * own bound and level, so the threads write disjoint slots. */
+static void width_range(void *arg, size_t begin, size_t end, int part)
+{
+	(void)part;
+	sink_state *st = arg;
+	for (size_t j = begin; j < end; j++) {
+		uint32_t i = st->list[j];
+		if (dp_width_too_deep(&st->width, i, depth_of(st, i)))
+			st->settled[i] = DP_SETTLE_WIDTH;
+	}
+}
+
+static void settle_by_width(int threads, sink_state *st, size_t *settled)
 {
 	*settled = 0;
 	if (!st->width_on)
 		return;
+	dp_parallel_for(threads, st->nlist, MEDIAL_MIN_ITEMS, width_range, st);
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
-		if (dp_width_too_deep(&st->width, i, depth_of(st, i))) {
-			st->settled[i] = DP_SETTLE_WIDTH;
+		if (st->settled[i] == DP_SETTLE_WIDTH)
 			(*settled)++;
-		} else {
+		else
 			st->list[kept++] = i;
-		}
 	}
 	st->nlist = kept;
 }
@@ -424,7 +435,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 				     meet_shift, &by_front, err);
 		if (rc == DP_OK) {
 			settle_past_medial(ctx->threads, st, medial_margin, &by_medial);
-			settle_by_width(st, &by_width);
+			settle_by_width(ctx->threads, st, &by_width);
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, slow_margin, &by_slow, err);
 		}
 		if (rc == DP_OK)
@@ -443,7 +454,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 	stats->unsettled = st->n - settled_total;
 	if (p->flat_angle_deg > 0.0) {
 		const float *pos[3] = {s->x, s->y, s->z}, *nrm3[3] = {s->nx, s->ny, s->nz};
-		rc = dp_flat_cap(st->n, pos, nrm3, st->q, st->settled, r, p->flat_angle_deg, &stats->settled_flat, err);
+		rc = dp_flat_cap(ctx->threads, st->n, pos, nrm3, st->q, st->settled, r, p->flat_angle_deg, &stats->settled_flat, err);
 		stats->settled_slow -= stats->settled_flat;
 	}
 	return rc;

@@ -66,7 +66,8 @@ void dp_width_free(dp_width *w);
 /* Whether an inner point `depth` deep below sample i has reached i's bound.
  * Reads the scales that depth makes relevant (rho / 2 <= depth) on first
  * need and remembers them, so a point that settles shallow never reads the
- * wide ones. */
+ * wide ones. It writes only sample i's own slots: calls for different i may
+ * run at once. */
 int dp_width_too_deep(dp_width *w, size_t i, float depth);
 
 /* bound[i] = the depth, in the units of x, beyond which sample i's inner point
