@@ -451,7 +451,8 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  * towards them, it does not move them (the paper smooths "unsettled inner
  * points"). Stops when every point has settled or after max_iters iterations.
  *  5. flat faces (not in the paper; after the loop): a point that stopped by
- *     slow-down takes at most the depth of its face's rim: the median depth
+ *     slow-down or by the width bound (no evidence of its depth) takes at most
+ *     the depth of its face's rim: the median depth
  *     of the points settled by step 1 or 1b within 5 r of a point so settled
  *     and facing its way, passed on through samples within 2.5 r of each
  *     other whose normals stay within flat_angle_deg of that point's. A flat face
@@ -493,7 +494,8 @@ typedef struct dp_sink_stats {
 	size_t settled_medial;   /* settled by the medial test */
 	size_t settled_width;    /* settled by the width bound */
 	size_t settled_slow;     /* settled by slow-down */
-	size_t settled_flat;     /* settled by slow-down, then given a flat face's depth (step 5) */
+	size_t settled_flat;     /* settled by slow-down or the width bound, then given a flat face's depth (step 5);
+	                            settled_slow and settled_width count the rest */
 	size_t unsettled;        /* still moving when max_iters stopped the loop */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
@@ -506,7 +508,7 @@ typedef enum dp_settle {
 	DP_SETTLE_MEDIAL = 2, /* passed the medial axis (1b) */
 	DP_SETTLE_WIDTH = 3,  /* as deep as its part is wide (1c) */
 	DP_SETTLE_SLOW = 4,   /* slowed down with its neighbours (2) */
-	DP_SETTLE_FLAT = 5    /* slowed down, then given its flat face's depth (5) */
+	DP_SETTLE_FLAT = 5    /* slowed down or width-bound, then given its flat face's depth (5) */
 } dp_settle;
 
 /*

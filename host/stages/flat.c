@@ -259,7 +259,7 @@ dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const floa
 		}
 	}
 	for (size_t i = 0; i < n; i++) {
-		if (settled_by[i] != DP_SETTLE_SLOW || !isfinite(cap[i]))
+		if ((settled_by[i] != DP_SETTLE_SLOW && settled_by[i] != DP_SETTLE_WIDTH) || !isfinite(cap[i]))
 			continue;
 		float d = own[i];
 		if (!(d > cap[i]))

@@ -1,10 +1,10 @@
 /* The depth of flat faces scanned from one side (dpoints.h, sinking step 5;
  * not in the paper).
  *
- * Opposing fronts, the medial test and the width bound stop a sinking point
- * on geometric evidence. A flat face scanned from one side has none in its
- * middle: no front opposes it, no ball touches it again, and a plate is wide.
- * Its points stop only by slow-down, which creeps in from the face's rim one
+ * Opposing fronts and the medial test stop a sinking point on geometric
+ * evidence. A flat face scanned from one side has none in its middle: no
+ * front opposes it, no ball touches it again. Its points stop by slow-down,
+ * which creeps in from the face's rim one
  * neighbourhood at a time while every point still sinks half a step per
  * iteration, so the depth grows towards the middle. Measured on the demo
  * chair's seat (53 r wide, 4.2 r thick, scanned from above): 4.1 r at the
@@ -19,8 +19,16 @@
  * stays flat from the rim inwards has no reason to be thicker than its rim
  * says, so that median travels from sample to sample within DP_FLAT_LINK_R r
  * of each other, as long as each normal stays within the angle of the
- * evidence point's, and a point that stopped by slow-down takes it when it
- * is shallower than its own depth. Measuring the angle from the evidence
+ * evidence point's, and a point that stopped without evidence takes it when
+ * it is shallower than its own depth: one stopped by slow-down, or by the
+ * width bound, which only keeps a point within a few widths of its part
+ * (width.h) and is no measure of a plate's depth. Measured on the demo
+ * chair's back rest (4.2 r thick, scanned from the front): 257 of its 487
+ * front samples stopped by the width bound 2.7-3.4 r deep, and its completed
+ * rear stood 1.5 r behind the true one; with them capped (mean of WLOP seeds
+ * 1-6 at 4000 deep points) the chair's 95th percentile accuracy went from
+ * 0.0174 to 0.0154 diagonals and its flipped normals from 3.0% to 2.9%, its
+ * coverage from 0.969 to 0.961; the bunnies did not change. Measuring the angle from the evidence
  * point, not from link to link, keeps a curved surface from passing the
  * depth along: on a sphere of radius R the depth travels at most R
  * sin(angle) and stays R. The smallest depth travels first, and a sample
@@ -81,7 +89,7 @@
 
 /*
  * Caps the depth |q_i - p_i| of every sample with settled_by[i] ==
- * DP_SETTLE_SLOW at the face depth that reaches it as described above
+ * DP_SETTLE_SLOW or DP_SETTLE_WIDTH at the face depth that reaches it as described above
  * (the median depth of the DP_SETTLE_FRONT and DP_SETTLE_MEDIAL samples
  * within DP_FLAT_RIM_R r of an evidence sample, with normals within
  * angle_deg (> 0) of its, or half its edge band's height if less), moving

@@ -455,7 +455,14 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 	if (p->flat_angle_deg > 0.0) {
 		const float *pos[3] = {s->x, s->y, s->z}, *nrm3[3] = {s->nx, s->ny, s->nz};
 		rc = dp_flat_cap(ctx->threads, st->n, pos, nrm3, st->q, st->settled, r, p->flat_angle_deg, &stats->settled_flat, err);
-		stats->settled_slow -= stats->settled_flat;
+		/* the capped points were counted where they first stopped */
+		size_t slow = 0, width = 0;
+		for (size_t i = 0; i < st->n; i++) {
+			slow += st->settled[i] == DP_SETTLE_SLOW;
+			width += st->settled[i] == DP_SETTLE_WIDTH;
+		}
+		stats->settled_slow = slow;
+		stats->settled_width = width;
 	}
 	return rc;
 }
