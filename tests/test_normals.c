@@ -485,21 +485,20 @@ static void test_bad_input(void **state)
 	dp_cloud_free(&c);
 }
 
-/* A thin closed plate, about 2.3 sample spacings thick: the kNN graph links
- * its two faces, whose normals are antiparallel, so Hoppe's weight alone
- * passes the orientation across and turns one face inwards (measured: 0.516
- * of the face points outward; 0.989 with the across-the-normal cost; from 2.7
- * spacings on, both get all of them). Samples of the built-in slab mesh carry
- * its exact outward normals. */
-static void test_thin_plate(void **state)
+/* The fraction of a thin closed slab's face samples (width 1, `thickness`
+ * thick, 3000 samples: spacing about 0.026) whose estimated normal points
+ * outward. The kNN graph links the two faces, whose normals are antiparallel:
+ * Hoppe's weight and agreement test alone pass the orientation across and
+ * turn one face inwards. Samples of the built-in slab mesh carry its exact
+ * outward normals. */
+static double thin_plate_outward(double thickness)
 {
-	(void)state;
 	dp_error err = {0};
 	dp_shape shape;
 	dp_cloud mesh = {0}, truth = {0};
 	assert_int_equal(dp_shape_default("slab", &shape, &err), DP_OK);
 	shape.width = 1.0;
-	shape.thickness = 0.06;
+	shape.thickness = thickness;
 	assert_int_equal(dp_shape_mesh(&shape, &mesh, &err), DP_OK);
 	assert_int_equal(dp_mesh_sample(&mesh, 3000, 0.0, 3, &truth, &err), DP_OK);
 	dp_cloud c;
@@ -514,12 +513,24 @@ static void test_thin_plate(void **state)
 		faces++;
 		outward += c.nx[i] * truth.nx[i] + c.ny[i] * truth.ny[i] + c.nz[i] * truth.nz[i] > 0.0f;
 	}
-	printf("thin plate: %zu points on the faces, outward %.4f\n", faces, (double)outward / (double)faces);
+	printf("thin plate %.2f thick: %zu points on the faces, outward %.4f\n", thickness, faces,
+	       (double)outward / (double)faces);
 	assert_true(faces > c.n / 2);
-	assert_true((double)outward >= 0.98 * (double)faces);
 	dp_cloud_free(&c);
 	dp_cloud_free(&truth);
 	dp_cloud_free(&mesh);
+	return (double)outward / (double)faces;
+}
+
+/* 2.3 spacings thick: 0.516 outward with Hoppe's weight alone, 0.989 with
+ * the cost of running along the normals (from 2.7 spacings on, all). 1.5
+ * spacings: 0.51 even so, since a step across is then the only way to the far
+ * face; 0.88 with the mirrored agreement test (orient.c). */
+static void test_thin_plate(void **state)
+{
+	(void)state;
+	assert_true(thin_plate_outward(0.06) >= 0.98);
+	assert_true(thin_plate_outward(0.04) >= 0.85);
 }
 
 int main(void)

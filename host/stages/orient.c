@@ -183,30 +183,59 @@ static uint32_t heap_pop(heap *h)
 	return v;
 }
 
-/* Prim's algorithm from `seed` over its component: each point, when it joins
- * the tree, takes the sign that agrees with the tree neighbour it joined by. */
-/* Weight of passing the orientation from v to u: Hoppe's 1 - |n_v·n_u|, plus
- * how much the step runs along the normals. Hoppe's term alone is 0 between
- * the two faces of a thin plate (antiparallel normals), so the propagation
- * jumped across it and turned the far face inwards (measured on the demo
- * chair: a whole scan's normals inwards, or the back and seat half flipped);
- * neighbours on one surface lie in its tangent plane, where the added term is
- * about (spacing / curvature radius)², while a step across a plate runs along
- * both normals and costs up to 2 more. */
-static double edge_weight(uint32_t v, uint32_t u, const float *x, const float *y, const float *z, const float *nx,
-			  const float *ny, const float *nz)
+/* The cosines between the unit step from v to u and the two normals (0 and 0
+ * for coincident points). */
+static void step_cosines(uint32_t v, uint32_t u, const float *x, const float *y, const float *z, const float *nx,
+			 const float *ny, const float *nz, double *av, double *au)
 {
 	double d[3] = {(double)x[u] - x[v], (double)y[u] - y[v], (double)z[u] - z[v]};
 	double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-	double across = 0.0;
-	if (len > 0.0) {
-		double av = (nx[v] * d[0] + ny[v] * d[1] + nz[v] * d[2]) / len;
-		double au = (nx[u] * d[0] + ny[u] * d[1] + nz[u] * d[2]) / len;
-		across = av * av + au * au;
-	}
-	return 1.0 - fabs(dot_normals(v, u, nx, ny, nz)) + across;
+	*av = *au = 0.0;
+	if (!(len > 0.0))
+		return;
+	*av = (nx[v] * d[0] + ny[v] * d[1] + nz[v] * d[2]) / len;
+	*au = (nx[u] * d[0] + ny[u] * d[1] + nz[u] * d[2]) / len;
 }
 
+/* Whether u's normal agrees with v's: Hoppe's test n_v·n_u > 0 holds between
+ * neighbours on one smooth surface, but two faces of a part thinner than the
+ * neighbourhood face away from each other, and a kNN edge across it asked the
+ * far face to agree with the near one and turned it inwards. The normal that
+ * u should have is n_v mirrored in the plane that bisects the step d from v
+ * to u, n_v - 2 (n_v·d) d: on a sphere that mirror maps v's surface onto
+ * itself and n_v onto n_u exactly; between tangent-plane neighbours (n·d = 0)
+ * it is n_v, Hoppe's test; across a plate (n_v = -d) it is -n_v, and across a
+ * gap between two faces facing each other (n_v = d) too. So the test is its
+ * dot product with n_u, n_v·n_u - 2 (n_v·d)(n_u·d), symmetric in v and u.
+ * Measured: the WLOP normals of the two-view bunny 1.0% -> 0.4% flipped (an
+ * ear), a slab 1.5 spacings thick 0.51 -> 0.88 of its faces outward, the
+ * one-view bunny and the demo chair unchanged. */
+static double mirrored_dot(uint32_t v, uint32_t u, const float *x, const float *y, const float *z, const float *nx,
+			   const float *ny, const float *nz)
+{
+	double av, au;
+	step_cosines(v, u, x, y, z, nx, ny, nz, &av, &au);
+	return dot_normals(v, u, nx, ny, nz) - 2.0 * av * au;
+}
+
+/* Weight of passing the orientation from v to u: 1 - |mirrored_dot|, plus
+ * how much the step runs along the normals. A step within one surface's
+ * tangent plane costs about (spacing / curvature radius)² more, a step across
+ * a plate up to 2 more: the mirror gets a plate's crossing right, but a step
+ * that stays on one surface is the surer one, and Prim takes it where there
+ * is one (Hoppe's 1 - |n_v·n_u| alone, without the mirror, turned whole
+ * faces of the demo chair inwards). */
+static double edge_weight(uint32_t v, uint32_t u, const float *x, const float *y, const float *z, const float *nx,
+			  const float *ny, const float *nz)
+{
+	double av, au;
+	step_cosines(v, u, x, y, z, nx, ny, nz, &av, &au);
+	return 1.0 - fabs(dot_normals(v, u, nx, ny, nz) - 2.0 * av * au) + av * av + au * au;
+}
+
+/* Prim's algorithm from `seed` over its component: each point, when it joins
+ * the tree, takes the sign that agrees (mirrored_dot) with the tree neighbour
+ * it joined by. */
 static void prim_propagate(const graph *g, heap *h, uint32_t *parent, unsigned char *done, uint32_t seed,
 			   const float *x, const float *y, const float *z, float *nx, float *ny, float *nz)
 {
@@ -215,7 +244,7 @@ static void prim_propagate(const graph *g, heap *h, uint32_t *parent, unsigned c
 	while (h->size) {
 		uint32_t v = heap_pop(h);
 		done[v] = 1;
-		if (parent[v] != v && dot_normals(v, parent[v], nx, ny, nz) < 0.0)
+		if (parent[v] != v && mirrored_dot(parent[v], v, x, y, z, nx, ny, nz) < 0.0)
 			flip(v, nx, ny, nz);
 		for (size_t e = g->start[v]; e < g->start[v + 1]; e++) {
 			uint32_t u = g->adj[e];
