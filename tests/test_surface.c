@@ -284,6 +284,53 @@ static void test_sphere_complete(void **state)
 	free_scene(&sc);
 }
 
+/* Outward normals in a cap (z > 0.8 R) of the complete sphere scene, whose
+ * inner ends there were moved 0.3 R outside the sphere, as where a thin
+ * part's sinking points left it: each dpoint there points inwards. */
+static double cap_outward(int orient_by_dpoint, size_t *in_cap)
+{
+	scene sc;
+	make_scene(&sc, 0, 0, 8000, 2000, 0.01 * SPHERE_R, 0.01 * SPHERE_R, 0.03 * SPHERE_R, 3);
+	*in_cap = 0;
+	for (size_t i = 0; i < sc.samples.n; i++) {
+		if (!(sc.samples.z[i] > 0.8 * SPHERE_R))
+			continue;
+		sc.skeleton.x[i] = 1.3f * sc.samples.x[i];
+		sc.skeleton.y[i] = 1.3f * sc.samples.y[i];
+		sc.skeleton.z[i] = 1.3f * sc.samples.z[i];
+		(*in_cap)++;
+	}
+	dp_surface_params p;
+	dp_surface_params_default(&p);
+	p.orient_by_dpoint = orient_by_dpoint;
+	p.max_iters = 3;
+	p.reattach = 0;
+	dp_cloud out = {0};
+	dp_surface_stats st;
+	run_stage(tk_cl_context(), &sc, &p, &out, NULL, &st);
+	size_t outward = 0;
+	for (size_t i = 0; i < out.n; i++)
+		if (sc.samples.z[i] > 0.8 * SPHERE_R)
+			outward += out.nx[i] * out.x[i] + out.ny[i] * out.y[i] + out.nz[i] * out.z[i] > 0.0f;
+	printf("cap of %zu points with inner ends outside, orient_by_dpoint %d: %zu outward, %zu disagreeing\n",
+	       *in_cap, orient_by_dpoint, outward, st.normals_disagreeing);
+	dp_cloud_free(&out);
+	free_scene(&sc);
+	return (double)outward / (double)*in_cap;
+}
+
+/* A point the input holds keeps its data's orientation whatever its dpoint
+ * says (orient_by_dpoint signs only the points no input holds): the cap's
+ * normals stay outward, as they do when the old normal signs everything. */
+static void test_held_orientation(void **state)
+{
+	(void)state;
+	size_t in_cap = 0;
+	assert_true(cap_outward(1, &in_cap) >= 0.95);
+	assert_true(in_cap > 50);
+	assert_true(cap_outward(0, &in_cap) >= 0.95);
+}
+
 /* One-sided scan: the output covers >= 90% of the true surface while the
  * input covers about half; mean distance to the surface < 0.05 R (issue 3). */
 static void check_one_sided(int torus, const char *name, double unit)
@@ -624,7 +671,8 @@ static void test_errors(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(test_sphere_complete),  cmocka_unit_test(test_sphere_one_sided),
+		cmocka_unit_test(test_sphere_complete),
+		cmocka_unit_test(test_held_orientation),  cmocka_unit_test(test_sphere_one_sided),
 		cmocka_unit_test(test_torus_one_sided),  cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_priors),           cmocka_unit_test(test_slide_reach),
 		cmocka_unit_test(test_escape),           cmocka_unit_test(test_errors),

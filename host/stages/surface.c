@@ -50,9 +50,10 @@
 /* Skeleton points in one cube of this side (in r) are one candidate of
  * re-attachment. */
 #define SKELETON_MERGE_R 0.05
-/* The inside test moves only points that input does not hold: Σθ of the
- * input below this (no input point within about 1 r). */
-#define ESCAPE_MAX_SUPPORT 1.0f
+/* A point is held by input when Σθ of the input reaches this (an input point
+ * within about 1 r). The inside test moves only points input does not hold,
+ * and only those take their normal's sign from their dpoint (update_normals). */
+#define HELD_SUPPORT 1.0f
 /* Balls within this (in r) of lying inside another are left out of the
  * inside test (balls.h). */
 #define BALL_SLACK_R 0.5
@@ -408,7 +409,12 @@ static void normals_range(void *arg, size_t begin, size_t end, int part)
 			double by_m = v0[0] * m[0] + v0[1] * m[1] + v0[2] * m[2];
 			int has_len = len > min_len;
 			disagreeing += has_len && (by_old < 0.0) != (by_m < 0.0);
-			double sign = (orient_by_dpoint && has_len ? by_m : by_old) < 0.0 ? -1.0 : 1.0;
+			/* Where input holds the point its old normal carries the data's
+			 * orientation (the MST's, then this update's), which is right
+			 * where the dpoint is not: a thin part's tip whose inner end
+			 * sank out of it (the two-view bunny's ear). */
+			int held = a[A_ETA][i] - 1.0f >= HELD_SUPPORT;
+			double sign = (orient_by_dpoint && has_len && !held ? by_m : by_old) < 0.0 ? -1.0 : 1.0;
 			for (int k = 0; k < 3; k++)
 				pca[k] = sign * v0[k];
 		}
@@ -448,7 +454,7 @@ static size_t escape(work *w, size_t n, double r, const dp_surface_params *p)
 	const dp_ball_set *b = &w->balls;
 	for (size_t i = 0; i < n; i++) {
 		float dist = 0.0f;
-		int32_t k = a[A_ETA][i] - 1.0f < ESCAPE_MAX_SUPPORT
+		int32_t k = a[A_ETA][i] - 1.0f < HELD_SUPPORT
 				    ? dp_ball_set_deepest(b, a[A_PX][i], a[A_PY][i], a[A_PZ][i], a[A_NX][i], a[A_NY][i],
 							  a[A_NZ][i], margin, &dist)
 				    : -1;
