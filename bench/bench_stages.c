@@ -275,7 +275,7 @@ static int parse_options(int argc, char **argv, options *o)
 		} else if (!strcmp(arg, "--threads")) {
 			char *end;
 			long t = strtol(val, &end, 10);
-			if (*end || t < 0 || t > 1000)
+			if (end == val || *end || t < 0 || t > 1000)
 				return -1;
 			o->threads = (int)t;
 		} else if (!strcmp(arg, "--data")) {

@@ -80,8 +80,9 @@ static int ring_of(int i, int j, int side)
 /* A 41 x 41 face at spacing 1 facing up. Its outer three rings settled on
  * evidence at depths 1, 2 and 3 (outermost 1), as a rim's points meet the
  * side faces' fronts, except for one point at 0.1; the rest stopped by
- * slow-down at 8, and one by the width bound at 9 (an upper bound, not a
- * depth: it is capped like them). */
+ * slow-down at 8, one by the width bound at 9 (an upper bound, not a depth:
+ * it is capped like them) and one by the width bound at 0.5, above the
+ * face's depth (it stays). */
 static void test_plate(void **state)
 {
 	(void)state;
@@ -89,7 +90,7 @@ static void test_plate(void **state)
 	int side = 41;
 	pts_alloc(&s, (size_t)side * side);
 	double up[3] = {0, 0, 1};
-	size_t width_point = 0, shallow = 0;
+	size_t width_point = 0, shallow = 0, width_shallow = 0;
 	for (int i = 0; i < side; i++)
 		for (int j = 0; j < side; j++) {
 			size_t k = (size_t)i * side + (size_t)j;
@@ -107,10 +108,14 @@ static void test_plate(void **state)
 				set(&s, k, p, up, 0.1, DP_SETTLE_MEDIAL);
 				shallow = k;
 			}
+			if (i == 10 && j == 30) {
+				set(&s, k, p, up, 0.5, DP_SETTLE_WIDTH);
+				width_shallow = k;
+			}
 		}
 	size_t capped = run(&s, 10.0), slow = 0;
 	for (size_t k = 0; k < s.n; k++) {
-		if (s.why[k] == DP_SETTLE_FRONT || s.why[k] == DP_SETTLE_MEDIAL)
+		if (k == width_shallow || s.why[k] == DP_SETTLE_FRONT || s.why[k] == DP_SETTLE_MEDIAL)
 			continue;
 		slow++;
 		assert_int_equal(s.why[k], DP_SETTLE_FLAT);
@@ -123,6 +128,9 @@ static void test_plate(void **state)
 	       capped, slow, depth(&s, 20 * 41 + 20), depth(&s, width_point));
 	assert_int_equal(capped, slow);
 	assert_int_equal(s.why[width_point], DP_SETTLE_FLAT);
+	/* a cap never deepens: a width-bound point above its face's depth stays */
+	assert_int_equal(s.why[width_shallow], DP_SETTLE_WIDTH);
+	assert_true(fabs(depth(&s, width_shallow) - 0.5) < 1e-5);
 	assert_true(fabs(depth(&s, shallow) - 0.1) < 1e-5);
 	pts_free(&s);
 }

@@ -1,7 +1,8 @@
-/* The kd-tree's ball test (host/knn/kdtree.h) equals a brute-force scan of
- * the same float predicate: random balls around random, clustered and
- * coordinate-tied point sets, radii at exact point distances (the strict
- * comparison's edge), tiny trees, and queries that are NaN or have r2 <= 0. */
+/* The kd-tree's ball test and nearest-in-a-ball search (host/knn/kdtree.h)
+ * equal a brute-force scan of the same float predicate: random balls around
+ * random, clustered and coordinate-tied point sets, radii at exact point
+ * distances (the strict comparison's edge), tiny trees, and queries that are
+ * NaN or have r2 <= 0. */
 #include "testkit.h"
 
 #include "core/common.h"
@@ -12,6 +13,44 @@
 
 #define NPOINTS 3000
 #define NQUERIES 4000
+
+static int by_float(const void *a, const void *b)
+{
+	float x = *(const float *)a, y = *(const float *)b;
+	return (x > y) - (x < y);
+}
+
+/* The nearest `cap` within r2: as many as a brute-force scan finds (at most
+ * cap), each a real point at its true squared distance, no point twice, and
+ * the same distances as the brute force's nearest (ties may swap points). */
+static void check_nearest(const dp_kdtree *t, size_t n, const float *x, const float *y, const float *z, float qx,
+			  float qy, float qz, float r2, size_t cap, float *all, uint32_t *idx, float *d2,
+			  unsigned char *seen)
+{
+	size_t m = 0;
+	for (size_t k = 0; k < n; k++) {
+		float dx = x[k] - qx, dy = y[k] - qy, dz = z[k] - qz, e = dx * dx + dy * dy + dz * dz;
+		if (e < r2)
+			all[m++] = e;
+	}
+	qsort(all, m, sizeof *all, by_float);
+	size_t got = dp_kdtree_nearest_within(t, qx, qy, qz, r2, cap, idx, d2);
+	size_t want = m < cap ? m : cap;
+	if (got != want)
+		fail_msg("n %zu cap %zu r2 %g: %zu found, brute force %zu", n, cap, (double)r2, got, want);
+	for (size_t j = 0; j < got; j++) {
+		assert_true(idx[j] < n);
+		assert_false(seen[idx[j]]);
+		seen[idx[j]] = 1;
+		float dx = x[idx[j]] - qx, dy = y[idx[j]] - qy, dz = z[idx[j]] - qz;
+		assert_true(d2[j] == dx * dx + dy * dy + dz * dz);
+	}
+	for (size_t j = 0; j < got; j++)
+		seen[idx[j]] = 0;
+	qsort(d2, got, sizeof *d2, by_float);
+	for (size_t j = 0; j < got; j++)
+		assert_true(d2[j] == all[j]);
+}
 
 static int brute(size_t n, const float *x, const float *y, const float *z, float qx, float qy, float qz, float r2)
 {
@@ -51,6 +90,10 @@ static void compare(dp_rng *rng, size_t n, const float *x, const float *y, const
 	dp_kdtree t;
 	dp_error err = {0};
 	assert_int_equal(dp_kdtree_build(&t, n, x, y, z, &err), DP_OK);
+	float *all = malloc(NPOINTS * sizeof *all), *d2 = malloc(NPOINTS * sizeof *d2);
+	uint32_t *idx = malloc(NPOINTS * sizeof *idx);
+	unsigned char *seen = calloc(NPOINTS, 1);
+	assert_true(all && d2 && idx && seen);
 	for (int q = 0; q < NQUERIES; q++) {
 		float qx = (float)(dp_rng_uniform(rng) * 2.4 - 1.2), qy = (float)(dp_rng_uniform(rng) * 2.4 - 1.2),
 		      qz = (float)(dp_rng_uniform(rng) * 2.4 - 1.2);
@@ -62,6 +105,8 @@ static void compare(dp_rng *rng, size_t n, const float *x, const float *y, const
 			float dx = x[k] - qx, dy = y[k] - qy, dz = z[k] - qz;
 			r2 = dx * dx + dy * dy + dz * dz;
 		}
+		const size_t caps[] = {1, 5, 40, NPOINTS};
+		check_nearest(&t, n, x, y, z, qx, qy, qz, r2, caps[q % 4], all, idx, d2, seen);
 		int want = brute(n, x, y, z, qx, qy, qz, r2);
 		int got = dp_kdtree_any_within(&t, qx, qy, qz, r2);
 		if (got != want)
@@ -71,6 +116,12 @@ static void compare(dp_rng *rng, size_t n, const float *x, const float *y, const
 	}
 	assert_false(dp_kdtree_any_within(&t, NAN, 0.0f, 0.0f, 1.0f));
 	assert_false(dp_kdtree_any_within(&t, 0.0f, 0.0f, 0.0f, 0.0f));
+	assert_int_equal(dp_kdtree_nearest_within(&t, NAN, 0.0f, 0.0f, 1.0f, 10, idx, d2), 0);
+	assert_int_equal(dp_kdtree_nearest_within(&t, 0.0f, 0.0f, 0.0f, 0.0f, 10, idx, d2), 0);
+	free(all);
+	free(d2);
+	free(idx);
+	free(seen);
 	dp_kdtree_free(&t);
 }
 

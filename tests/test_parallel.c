@@ -74,6 +74,8 @@ static void test_context_threads(void **state)
 	dp_context_set_threads(ctx, 0);
 	assert_int_equal(dp_context_threads(ctx), dp_parallel_cpus());
 	assert_true(dp_context_threads(ctx) >= 1);
+	dp_context_set_threads(ctx, -3);
+	assert_int_equal(dp_context_threads(ctx), dp_parallel_cpus());
 }
 
 static void assert_same_cloud(const dp_cloud *a, const dp_cloud *b, const char *what)

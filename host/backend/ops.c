@@ -154,9 +154,9 @@ static void candidates_range(void *arg, size_t begin, size_t end, int part)
 static double candidates(int threads, const op_call *c)
 {
 	candidates_job job = {.c = c};
-	dp_parallel_for(threads, c->nq, CANDIDATES_MIN_ITEMS, candidates_range, &job);
+	int parts = dp_parallel_for(threads, c->nq, CANDIDATES_MIN_ITEMS, candidates_range, &job);
 	double total = 0.0;
-	for (int k = 0; k < dp_parallel_parts(threads, c->nq, CANDIDATES_MIN_ITEMS); k++)
+	for (int k = 0; k < parts; k++)
 		total += job.part_sum[k];
 	return total;
 }

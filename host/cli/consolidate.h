@@ -16,7 +16,7 @@ typedef struct dp_consolidate_job {
 	int json_stdout; /* stdout is one JSON document (--json): no per-input line there */
 	struct dp_cli_progress_state *progress; /* the context's progress printer, NULL when quiet */
 	const char *format, *columns;           /* --format, --columns: how inputs are read (NULL: by name, detected) */
-	int threads; /* --threads: host threads per worker; 0: the online CPUs shared among the workers */
+	int threads; /* --threads: host threads per worker; 0: the CPUs the process may use, shared among the workers */
 } dp_consolidate_job;
 
 /* One row of the batch summary. */

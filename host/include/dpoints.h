@@ -213,11 +213,13 @@ DP_API void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *us
 
 /*
  * How many threads the host side of every later call on ctx may use for its
- * loops over points (the sinking's medial test, the surface stage's normals,
- * pair accounting); the OpenCL kernels are the device's business. 0 means the
- * online CPUs (the default), 1 one thread; at most 64 are used. Results do not
- * depend on it. Each loop starts its threads and joins them before it returns,
- * so nothing runs between calls. Not thread-safe with a call running on ctx.
+ * loops over points (the sinking's medial test, width bound and flat faces,
+ * the skeleton's PCA frames, the surface stage's normals, pair accounting);
+ * the OpenCL kernels are the device's business. 0 or less means the CPUs the
+ * process may run on (its affinity: a Slurm job's or a container's share; the
+ * default), 1 one thread; at most 64 are used. Results do not depend on it.
+ * Each loop starts its threads and joins them before it returns, so nothing
+ * runs between calls. Not thread-safe with a call running on ctx.
  */
 DP_API void dp_context_set_threads(dp_context *ctx, int threads);
 /* The thread count later calls use (never 0: the resolved default). */
@@ -492,8 +494,8 @@ typedef struct dp_sink_stats {
 	int iterations;          /* iterations run */
 	size_t settled_front;    /* settled by the front test */
 	size_t settled_medial;   /* settled by the medial test */
-	size_t settled_width;    /* settled by the width bound */
-	size_t settled_slow;     /* settled by slow-down */
+	size_t settled_width;    /* settled by the width bound (and left there by step 5) */
+	size_t settled_slow;     /* settled by slow-down (and left there by step 5) */
 	size_t settled_flat;     /* settled by slow-down or the width bound, then given a flat face's depth (step 5);
 	                            settled_slow and settled_width count the rest */
 	size_t unsettled;        /* still moving when max_iters stopped the loop */

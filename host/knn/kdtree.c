@@ -66,12 +66,13 @@ dp_status dp_kdtree_build(dp_kdtree *t, size_t n, const float *x, const float *y
 		return dp_fail(err, DP_ERR_ARG, "kd-tree: cannot index %zu points", n);
 	uint32_t *order = dp_alloc_array(n, sizeof *order);
 	keyed *scratch = dp_alloc_array(n, sizeof *scratch);
+	t->index = dp_alloc_array(n, sizeof *t->index);
 	t->x = dp_alloc_array(n, sizeof(float));
 	t->y = dp_alloc_array(n, sizeof(float));
 	t->z = dp_alloc_array(n, sizeof(float));
 	t->axis = calloc(n ? n : 1, 1);
 	t->box = dp_alloc_array(n, 6 * sizeof(float));
-	if (!order || !scratch || !t->x || !t->y || !t->z || !t->axis || !t->box) {
+	if (!order || !scratch || !t->index || !t->x || !t->y || !t->z || !t->axis || !t->box) {
 		free(order);
 		free(scratch);
 		dp_kdtree_free(t);
@@ -82,6 +83,7 @@ dp_status dp_kdtree_build(dp_kdtree *t, size_t n, const float *x, const float *y
 	const float *src[3] = {x, y, z};
 	build_node(t, src, order, scratch, 0, n);
 	for (size_t k = 0; k < n; k++) {
+		t->index[k] = order[k];
 		t->x[k] = x[order[k]];
 		t->y[k] = y[order[k]];
 		t->z[k] = z[order[k]];
@@ -94,6 +96,7 @@ dp_status dp_kdtree_build(dp_kdtree *t, size_t n, const float *x, const float *y
 
 void dp_kdtree_free(dp_kdtree *t)
 {
+	free(t->index);
 	free(t->x);
 	free(t->y);
 	free(t->z);
@@ -158,4 +161,95 @@ int dp_kdtree_any_within(const dp_kdtree *t, float x, float y, float z, float r2
 		return 0;
 	const float q[3] = {x, y, z};
 	return any_in_node(t, q, r2, 0, t->n);
+}
+
+/* The nearest points found so far: a max-heap on d2 of at most cap entries,
+ * so the farthest kept is replaced first. */
+typedef struct nearest {
+	uint32_t *idx;
+	float *d2;
+	size_t size, cap;
+	float r2;
+} nearest;
+
+/* The squared distance a point must be below to be kept. */
+static float bound(const nearest *h)
+{
+	return h->size < h->cap ? h->r2 : h->d2[0];
+}
+
+static void sift_down(nearest *h, size_t i)
+{
+	for (;;) {
+		size_t c = 2 * i + 1, m = i;
+		if (c < h->size && h->d2[c] > h->d2[m])
+			m = c;
+		if (c + 1 < h->size && h->d2[c + 1] > h->d2[m])
+			m = c + 1;
+		if (m == i)
+			return;
+		float d = h->d2[i];
+		uint32_t k = h->idx[i];
+		h->d2[i] = h->d2[m];
+		h->idx[i] = h->idx[m];
+		h->d2[m] = d;
+		h->idx[m] = k;
+		i = m;
+	}
+}
+
+static void offer(nearest *h, const dp_kdtree *t, const float q[3], size_t k)
+{
+	float dx = t->x[k] - q[0], dy = t->y[k] - q[1], dz = t->z[k] - q[2];
+	float d2 = dx * dx + dy * dy + dz * dz;
+	if (!(d2 < bound(h)))
+		return;
+	if (h->size < h->cap) {
+		size_t i = h->size++;
+		while (i > 0 && h->d2[(i - 1) / 2] < d2) {
+			h->d2[i] = h->d2[(i - 1) / 2];
+			h->idx[i] = h->idx[(i - 1) / 2];
+			i = (i - 1) / 2;
+		}
+		h->d2[i] = d2;
+		h->idx[i] = t->index[k];
+		return;
+	}
+	h->d2[0] = d2;
+	h->idx[0] = t->index[k];
+	sift_down(h, 0);
+}
+
+static void nearest_in_node(const dp_kdtree *t, const float q[3], nearest *h, size_t lo, size_t hi)
+{
+	while (hi > lo) {
+		size_t mid = lo + (hi - lo) / 2;
+		if (!(box_d2(t->box + 6 * mid, q) < bound(h)))
+			return;
+		if (hi - lo <= KDTREE_LEAF) {
+			for (size_t k = lo; k < hi; k++)
+				offer(h, t, q, k);
+			return;
+		}
+		offer(h, t, q, mid);
+		int a = t->axis[mid];
+		const float *split = a == 0 ? t->x : a == 1 ? t->y : t->z;
+		int low_is_near = q[a] < split[mid];
+		nearest_in_node(t, q, h, low_is_near ? lo : mid + 1, low_is_near ? mid : hi);
+		if (low_is_near)
+			lo = mid + 1;
+		else
+			hi = mid;
+	}
+}
+
+size_t dp_kdtree_nearest_within(const dp_kdtree *t, float x, float y, float z, float r2, size_t cap, uint32_t *idx,
+				float *d2)
+{
+	if (!(r2 > 0.0f) || cap == 0)
+		return 0;
+	const float q[3] = {x, y, z};
+	nearest h = {idx, d2, 0, cap, r2};
+	nearest_in_node(t, q, &h, 0, t->n);
+	return h.size;
 }

@@ -3,6 +3,7 @@
 
 #include "core/common.h"
 #include "core/parallel.h"
+#include "knn/kdtree.h"
 #include "knn/knn.h"
 
 #include <math.h>
@@ -81,13 +82,13 @@ static float depth(const float *const p[3], float *const q[3], size_t i)
 typedef struct flat_job {
 	const float *const *p, *const *normal;
 	const unsigned char *settled_by;
-	const dp_knn *knn;
+	const dp_kdtree *tree;
 	const float *own;
 	float *cap, *half;
 	uint32_t *origin;
 	float rim2, band2, min_cos, sin_a;
 	double below_min;
-	int *ridx, *bidx;        /* DP_FLAT_RIM_COUNT, DP_FLAT_BAND_COUNT per part */
+	uint32_t *ridx, *bidx;   /* DP_FLAT_RIM_COUNT, DP_FLAT_BAND_COUNT per part */
 	float *rd2, *rdepth, *bd2;
 } flat_job;
 
@@ -104,7 +105,7 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 {
 	flat_job *job = arg;
 	const float *const *p = job->p, *const *normal = job->normal;
-	int *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT, *bidx = job->bidx + (size_t)part * DP_FLAT_BAND_COUNT;
+	uint32_t *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT, *bidx = job->bidx + (size_t)part * DP_FLAT_BAND_COUNT;
 	float *rd2 = job->rd2 + (size_t)part * DP_FLAT_RIM_COUNT, *rdepth = job->rdepth + (size_t)part * DP_FLAT_RIM_COUNT;
 	float *bd2 = job->bd2 + (size_t)part * DP_FLAT_BAND_COUNT;
 	for (size_t i = begin; i < end; i++) {
@@ -112,14 +113,12 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 		job->cap[i] = INFINITY;
 		if (!evidence(job->settled_by[i]))
 			continue;
-		int found = dp_knn_radius(job->knn, p[0][i], p[1][i], p[2][i], job->rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
+		size_t found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->rim2, DP_FLAT_RIM_COUNT, ridx, rd2);
 		size_t m = 0, facing = 0, all = 0;
-		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
-			int o = ridx[j];
-			if (o < 0)
-				continue;
+		for (size_t j = 0; j < found; j++) {
+			uint32_t o = ridx[j];
 			all++;
-			if (cosine(normal, i, (size_t)o) < job->min_cos)
+			if (cosine(normal, i, o) < job->min_cos)
 				continue;
 			facing++;
 			if (evidence(job->settled_by[o]))
@@ -135,14 +134,12 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 		 * a right angle are no plate's edge */
 		if (facing < DP_FLAT_FACE_FRACTION * all)
 			continue;
-		found = dp_knn_radius(job->knn, p[0][i], p[1][i], p[2][i], job->band2, bidx, bd2, DP_FLAT_BAND_COUNT);
+		found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->band2, DP_FLAT_BAND_COUNT, bidx, bd2);
 		size_t band = 0;
 		float reach = 0.0f, aside2 = INFINITY;
-		for (int j = 0; j < found && j < DP_FLAT_BAND_COUNT; j++) {
-			int o = bidx[j];
-			if (o < 0)
-				continue;
-			if (!(fabsf(cosine(normal, i, (size_t)o)) <= job->sin_a))
+		for (size_t j = 0; j < found; j++) {
+			uint32_t o = bidx[j];
+			if (!(fabsf(cosine(normal, i, o)) <= job->sin_a))
 				continue;
 			float d[3] = {p[0][o] - p[0][i], p[1][o] - p[1][i], p[2][o] - p[2][i]};
 			float below = -(normal[0][i] * d[0] + normal[1][i] * d[1] + normal[2][i] * d[2]);
@@ -165,16 +162,16 @@ static void band_median_range(void *arg, size_t begin, size_t end, int part)
 {
 	flat_job *job = arg;
 	const float *const *p = job->p;
-	int *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT;
+	uint32_t *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT;
 	float *rd2 = job->rd2 + (size_t)part * DP_FLAT_RIM_COUNT, *rdepth = job->rdepth + (size_t)part * DP_FLAT_RIM_COUNT;
 	for (size_t i = begin; i < end; i++) {
 		if (job->origin[i] == NO_ORIGIN)
 			continue;
-		int found = dp_knn_radius(job->knn, p[0][i], p[1][i], p[2][i], job->rim2, ridx, rd2, DP_FLAT_RIM_COUNT);
+		size_t found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->rim2, DP_FLAT_RIM_COUNT, ridx, rd2);
 		size_t m = 0;
-		for (int j = 0; j < found && j < DP_FLAT_RIM_COUNT; j++) {
-			int o = ridx[j];
-			if (o >= 0 && isfinite(job->half[o]) && cosine(job->normal, i, (size_t)o) >= job->min_cos)
+		for (size_t j = 0; j < found; j++) {
+			uint32_t o = ridx[j];
+			if (isfinite(job->half[o]) && cosine(job->normal, i, o) >= job->min_cos)
 				rdepth[m++] = job->half[o];
 		}
 		if (m == 0)
@@ -196,25 +193,25 @@ dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const floa
 	float *d2 = dp_alloc_array(n, (size_t)k * sizeof(float));
 	float *cap = dp_alloc_array(n, sizeof(float)), *own = dp_alloc_array(n, sizeof(float));
 	float *half = dp_alloc_array(n, sizeof(float));
-	/* search buffers, one set per range */
-	size_t parts = (size_t)dp_parallel_parts(threads, n, FLAT_MIN_ITEMS);
-	int *ridx = dp_alloc_array(parts, DP_FLAT_RIM_COUNT * sizeof(int));
-	float *rd2 = dp_alloc_array(parts, DP_FLAT_RIM_COUNT * sizeof(float));
-	float *rdepth = dp_alloc_array(parts, DP_FLAT_RIM_COUNT * sizeof(float));
-	int *bidx = dp_alloc_array(parts, DP_FLAT_BAND_COUNT * sizeof(int));
-	float *bd2 = dp_alloc_array(parts, DP_FLAT_BAND_COUNT * sizeof(float));
+	/* search buffers, one set per range (a few hundred kB at most) */
+	uint32_t *ridx = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_RIM_COUNT * sizeof(uint32_t));
+	float *rd2 = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_RIM_COUNT * sizeof(float));
+	float *rdepth = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_RIM_COUNT * sizeof(float));
+	uint32_t *bidx = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(uint32_t));
+	float *bd2 = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(float));
 	uint32_t *origin = dp_alloc_array(n, sizeof(uint32_t));
 	unsigned char *done = calloc(n, 1);
 	/* every sample enters once as evidence or once per link that lowers it */
 	entry *heap = dp_alloc_array(n, ((size_t)k + 1) * sizeof(entry));
 	dp_knn knn = {0};
+	dp_kdtree tree = {0};
 	dp_status st = DP_OK;
 	if (!idx || !d2 || !cap || !own || !half || !origin || !ridx || !rd2 || !rdepth || !bidx || !bd2 || !done || !heap) {
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
 		goto out;
 	}
 	if ((st = dp_knn_build(&knn, n, p[0], p[1], p[2], err)) != DP_OK ||
-	    (st = dp_knn_self(&knn, k, idx, d2, err)) != DP_OK)
+	    (st = dp_knn_self(&knn, k, idx, d2, err)) != DP_OK || (st = dp_kdtree_build(&tree, n, p[0], p[1], p[2], err)) != DP_OK)
 		goto out;
 	float min_cos = (float)cos(angle_deg * M_PI / 180.0), sin_a = (float)sin(angle_deg * M_PI / 180.0);
 	for (size_t i = 0; i < n; i++) {
@@ -222,7 +219,7 @@ dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const floa
 		half[i] = INFINITY;
 	}
 	flat_job job = {
-		.p = p, .normal = normal, .settled_by = settled_by, .knn = &knn, .own = own, .cap = cap,
+		.p = p, .normal = normal, .settled_by = settled_by, .tree = &tree, .own = own, .cap = cap,
 		.half = half, .origin = origin, .min_cos = min_cos, .sin_a = sin_a,
 		.rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r), .band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r),
 		.below_min = DP_FLAT_BAND_BELOW_R * r, .ridx = ridx, .bidx = bidx, .rd2 = rd2, .rdepth = rdepth,
@@ -272,6 +269,7 @@ dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const floa
 	}
 out:
 	dp_knn_free(&knn);
+	dp_kdtree_free(&tree);
 	free(idx);
 	free(d2);
 	free(cap);

@@ -214,7 +214,7 @@ static float depth_of(const sink_state *st, size_t i)
 
 /* A thread of the medial test and the width bound gets at least this many
  * points: a test is a few microseconds, a thread's start and join tens. */
-#define MEDIAL_MIN_ITEMS 256
+#define SETTLE_MIN_ITEMS 256
 
 /* The medial test: an inner point nearer to some surface point than to its
  * own by more than `margin` has passed the medial axis (the centre of its
@@ -253,7 +253,7 @@ static void settle_past_medial(int threads, sink_state *st, float margin, size_t
 	if (!(margin > 0.0f))
 		return;
 	medial_job job = {st, margin};
-	dp_parallel_for(threads, st->nlist, MEDIAL_MIN_ITEMS, medial_range, &job);
+	dp_parallel_for(threads, st->nlist, SETTLE_MIN_ITEMS, medial_range, &job);
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
@@ -284,7 +284,7 @@ static void settle_by_width(int threads, sink_state *st, size_t *settled)
 	*settled = 0;
 	if (!st->width_on)
 		return;
-	dp_parallel_for(threads, st->nlist, MEDIAL_MIN_ITEMS, width_range, st);
+	dp_parallel_for(threads, st->nlist, SETTLE_MIN_ITEMS, width_range, st);
 	size_t kept = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
@@ -454,15 +454,16 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 	stats->unsettled = st->n - settled_total;
 	if (p->flat_angle_deg > 0.0) {
 		const float *pos[3] = {s->x, s->y, s->z}, *nrm3[3] = {s->nx, s->ny, s->nz};
-		rc = dp_flat_cap(ctx->threads, st->n, pos, nrm3, st->q, st->settled, r, p->flat_angle_deg, &stats->settled_flat, err);
+		rc = dp_flat_cap(ctx->threads, st->n, pos, nrm3, st->q, st->settled, r, p->flat_angle_deg,
+				 &stats->settled_flat, err);
 		/* the capped points were counted where they first stopped */
-		size_t slow = 0, width = 0;
+		size_t n_slow = 0, n_width = 0;
 		for (size_t i = 0; i < st->n; i++) {
-			slow += st->settled[i] == DP_SETTLE_SLOW;
-			width += st->settled[i] == DP_SETTLE_WIDTH;
+			n_slow += st->settled[i] == DP_SETTLE_SLOW;
+			n_width += st->settled[i] == DP_SETTLE_WIDTH;
 		}
-		stats->settled_slow = slow;
-		stats->settled_width = width;
+		stats->settled_slow = n_slow;
+		stats->settled_width = n_width;
 	}
 	return rc;
 }

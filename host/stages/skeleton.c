@@ -163,11 +163,6 @@ static void frames_range(void *arg, size_t begin, size_t end, int part)
 	}
 }
 
-static void frames_from_cov(int threads, work *w, size_t n)
-{
-	dp_parallel_for(threads, n, FRAMES_MIN_ITEMS, frames_range, w);
-}
-
 /* The metric rows v^m / (l^m r) of the ellipsoid distance. */
 static void metric_from_semiaxes(work *w, size_t n, double r)
 {
@@ -268,7 +263,7 @@ static dp_status iterate(dp_context *ctx, const dp_cloud *h, dp_cloud *q, double
 	};
 	if ((st = dp_op_skeleton_cov(ctx, &ca, err)) != DP_OK)
 		return st;
-	frames_from_cov(ctx->threads, w, n);
+	dp_parallel_for(ctx->threads, n, FRAMES_MIN_ITEMS, frames_range, w);
 	dp_grid_gather(&w->near, w->ux, w->gnx);
 	dp_grid_gather(&w->near, w->uy, w->gny);
 	dp_grid_gather(&w->near, w->uz, w->gnz);

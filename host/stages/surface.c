@@ -373,15 +373,6 @@ static size_t reattach(work *w, size_t n)
 	return changed;
 }
 
-/* n_i = normalize((η - 1) ñ + m) from the covariances of the new positions.
- * ñ, the PCA normal, has no sign of its own. Taken from the old normal, a
- * flip survives wherever the data weight η - 1 is large enough to outvote
- * m: a flipped point keeps its flipped neighbours flipped (measured: 5-7% of
- * real scans' surface points, nearly all in completed regions). The deep
- * point knows better: m_i runs from the inner end outwards by construction,
- * so with orient_by_dpoint ñ takes the sign of m_i wherever the dpoint has
- * a length. Returns how many PCA normals the old rule would have signed
- * against m_i. */
 typedef struct normals_job {
 	work *w;
 	float min_len;
@@ -435,12 +426,22 @@ static void normals_range(void *arg, size_t begin, size_t end, int part)
 	job->disagreeing[part] = disagreeing;
 }
 
+/* n_i = normalize((η - 1) ñ + m) from the covariances of the new positions.
+ * ñ, the PCA normal, has no sign of its own. Taken from the old normal, a
+ * flip survives wherever the data weight η - 1 is large enough to outvote
+ * m: a flipped point keeps its flipped neighbours flipped (measured: 5-7% of
+ * real scans' surface points, nearly all in completed regions). The deep
+ * point knows better there: m_i runs from the inner end outwards by
+ * construction, so with orient_by_dpoint ñ takes the sign of m_i wherever
+ * the dpoint has a length and no input holds the point; where input holds
+ * it, the old normal, which carries the data's orientation (normals_range).
+ * Returns how many PCA normals the old rule would have signed against m_i. */
 static size_t update_normals(int threads, work *w, size_t n, double r, int orient_by_dpoint)
 {
 	normals_job job = {.w = w, .min_len = DP_PAIR_EPS * (float)r, .orient_by_dpoint = orient_by_dpoint};
-	dp_parallel_for(threads, n, NORMALS_MIN_ITEMS, normals_range, &job);
+	int parts = dp_parallel_for(threads, n, NORMALS_MIN_ITEMS, normals_range, &job);
 	size_t disagreeing = 0;
-	for (int k = 0; k < dp_parallel_parts(threads, n, NORMALS_MIN_ITEMS); k++)
+	for (int k = 0; k < parts; k++)
 		disagreeing += job.disagreeing[k];
 	return disagreeing;
 }
