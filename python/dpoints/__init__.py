@@ -131,6 +131,14 @@ def _context(backend, device):
         return _contexts[key]
 
 
+def _threads_arg(threads):
+    if isinstance(threads, bool) or not isinstance(threads, int):
+        raise TypeError("threads must be an int (0: the CPUs this process may use)")
+    if threads < 0:
+        raise ValueError("threads must be >= 0 (0: the CPUs this process may use), not %d" % threads)
+    return threads
+
+
 def _progress_arg(progress):
     if progress is None:
         return None
@@ -223,7 +231,7 @@ def _signature(extra):
     return params
 
 
-def consolidate(points, samples=None, *, device=None, backend="cl", progress=None, **params):
+def consolidate(points, samples=None, *, device=None, backend="cl", progress=None, threads=0, **params):
     """The whole pipeline on a raw scan: WLOP, normals, sinking,
     meso-skeleton, surface consolidation.
 
@@ -235,22 +243,26 @@ def consolidate(points, samples=None, *, device=None, backend="cl", progress=Non
     progress: called as progress(stage, iteration, value, seconds) after
     every iteration of every stage (value: WLOP and skeleton/surface mean
     move in h or r, sinking settled points; seconds since the call began);
-    a true return value stops the run (Cancelled).
+    a true return value stops the run (Cancelled). threads: host threads of
+    the loops that stay on the host (0: the CPUs this process may use; 1 in
+    the workers of a process pool). The result does not depend on it.
     Every other keyword is a libdpoints parameter, STAGE_FIELD, with the
     library's default (dpoints.default_params() lists them).
     """
     pts = _points_array(points)
+    threads = _threads_arg(threads)
     if samples is not None:
         params["wlop_samples"] = samples
     cparams = _c_params(params, "consolidate")
     ctx, lock = _context(backend, device)
     with lock:
+        _dpoints.context_set_threads(ctx, threads)
         capsule = _dpoints.consolidate(ctx, pts, cparams, _progress_arg(progress))
     return Result(capsule, pts)
 
 
 consolidate.__signature__ = inspect.Signature(
-    _signature([("samples", None), ("device", None), ("backend", "cl"), ("progress", None)])
+    _signature([("samples", None), ("device", None), ("backend", "cl"), ("progress", None), ("threads", 0)])
     + [inspect.Parameter(k, inspect.Parameter.KEYWORD_ONLY, default=v) for k, v in _DEFAULTS.items()
        if k != "wlop_samples"])
 
@@ -271,22 +283,25 @@ class Samples:
         return "<dpoints.Samples %d points, h = %.6g>" % (len(self.points), self.stats["h"])
 
 
-def wlop(points, samples=None, *, normals=True, device=None, backend="cl", progress=None, **params):
+def wlop(points, samples=None, *, normals=True, device=None, backend="cl", progress=None, threads=0, **params):
     """Stage 1 alone: WLOP (denoised, evenly spaced samples of the input),
     then oriented PCA normals unless normals=False. Keywords as consolidate();
     only the wlop_* and normals_* parameters matter here."""
     pts = _points_array(points)
+    threads = _threads_arg(threads)
     if samples is not None:
         params["wlop_samples"] = samples
     cparams = _c_params(params, "wlop")
     ctx, lock = _context(backend, device)
     with lock:
+        _dpoints.context_set_threads(ctx, threads)
         d = _dpoints.wlop(ctx, pts, cparams, _progress_arg(progress), bool(normals))
     return Samples(d)
 
 
 wlop.__signature__ = inspect.Signature(
-    _signature([("samples", None), ("normals", True), ("device", None), ("backend", "cl"), ("progress", None)])
+    _signature([("samples", None), ("normals", True), ("device", None), ("backend", "cl"), ("progress", None),
+                ("threads", 0)])
     + [inspect.Parameter(k, inspect.Parameter.KEYWORD_ONLY, default=v) for k, v in _DEFAULTS.items()
        if k.startswith(("wlop_", "normals_")) and k != "wlop_samples"])
 

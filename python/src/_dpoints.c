@@ -223,6 +223,20 @@ static PyObject *py_context(PyObject *self, PyObject *args)
 	return cap;
 }
 
+static PyObject *py_context_set_threads(PyObject *self, PyObject *args)
+{
+	(void)self;
+	PyObject *cap;
+	int threads;
+	if (!PyArg_ParseTuple(args, "Oi", &cap, &threads))
+		return NULL;
+	dp_context *ctx = PyCapsule_GetPointer(cap, "dpoints.context");
+	if (!ctx)
+		return NULL;
+	dp_context_set_threads(ctx, threads);
+	Py_RETURN_NONE;
+}
+
 static PyObject *py_context_device(PyObject *self, PyObject *args)
 {
 	(void)self;
@@ -602,6 +616,7 @@ static PyMethodDef methods[] = {
 	{"default_params", py_default_params, METH_NOARGS, "every dp_params field and its default"},
 	{"context", py_context, METH_VARARGS, "context(backend, device) -> capsule"},
 	{"context_device", py_context_device, METH_VARARGS, "the device name of a context"},
+	{"context_set_threads", py_context_set_threads, METH_VARARGS, "host threads of a context's later calls"},
 	{"read", py_read, METH_VARARGS, "read(path, mesh) -> dict of bytearrays"},
 	{"consolidate", py_consolidate, METH_VARARGS, "consolidate(ctx, points, params, progress) -> result"},
 	{"result_arrays", py_result_arrays, METH_VARARGS, "the arrays of a result"},

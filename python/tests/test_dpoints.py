@@ -243,6 +243,18 @@ def cli_path():
     return path
 
 
+def test_threads_change_nothing():
+    pts = torus(6000, seed=3)
+    one = dpoints.consolidate(pts, samples=5000, threads=1)
+    two = dpoints.consolidate(pts, samples=5000, threads=2)
+    for a, b in ((one.surface, two.surface), (one.skeleton, two.skeleton), (one.normals, two.normals)):
+        assert np.array_equal(a, b)
+    with pytest.raises(ValueError, match="threads"):
+        dpoints.consolidate(pts, threads=-1)
+    with pytest.raises(TypeError, match="threads"):
+        dpoints.wlop(pts, threads=1.5)
+
+
 def test_same_result_as_the_cli(tmp_path):
     pts = torus(4000, seed=3)
     src = tmp_path / "in.xyz"
