@@ -20,8 +20,8 @@
 typedef void (*dp_range_fn)(void *arg, size_t begin, size_t end, int part);
 
 /* How many ranges dp_parallel_for will cut n items into with `threads`
- * threads and at least `min_items` items a range: callers size their
- * per-range reductions with it. Between 1 and DP_PARALLEL_MAX. */
+ * threads and at least `min_items` items a range, between 1 and
+ * DP_PARALLEL_MAX (per-range results need that many slots at most). */
 int dp_parallel_parts(int threads, size_t n, size_t min_items);
 
 /* Runs fn over [0, n) in dp_parallel_parts(threads, n, min_items) ranges,

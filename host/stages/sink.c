@@ -216,14 +216,6 @@ static float depth_of(const sink_state *st, size_t i)
  * points: a test is a few microseconds, a thread's start and join tens. */
 #define SETTLE_MIN_ITEMS 256
 
-/* The medial test: an inner point nearer to some surface point than to its
- * own by more than `margin` has passed the medial axis (the centre of its
- * inscribed ball), so it settles. Opposing fronts cannot stop points whose
- * far side was never scanned (a one-sided scan of a pole or a wing): there
- * nothing settles, the steps never shrink, and measured on such scans the
- * deep points ended ~100 r long. The scanned sides of the same part still
- * bound the ball. Distances are exact, on the host: the ball of radius
- * depth - margin around the inner point must hold no surface point. */
 typedef struct medial_job {
 	sink_state *st;
 	float margin;
@@ -247,6 +239,14 @@ static void medial_range(void *arg, size_t begin, size_t end, int part)
 	}
 }
 
+/* The medial test: an inner point nearer to some surface point than to its
+ * own by more than `margin` has passed the medial axis (the centre of its
+ * inscribed ball), so it settles. Opposing fronts cannot stop points whose
+ * far side was never scanned (a one-sided scan of a pole or a wing): there
+ * nothing settles, the steps never shrink, and measured on such scans the
+ * deep points ended ~100 r long. The scanned sides of the same part still
+ * bound the ball. Distances are exact, on the host: the ball of radius
+ * depth - margin around the inner point must hold no surface point. */
 static void settle_past_medial(int threads, sink_state *st, float margin, size_t *settled)
 {
 	*settled = 0;
