@@ -92,8 +92,9 @@ static void assert_same_cloud(const dp_cloud *a, const dp_cloud *b, const char *
 }
 
 /* Large enough that every threaded loop (medial test, width bound, flat
- * faces, PCA frames, normal update, pair counts) really splits: the demo
- * chair (flat faces, thin legs) at 9000 deep points, no coarse level. */
+ * faces, PCA frames, the surface iteration's loops, pair counts) really
+ * splits: the demo chair (flat faces, thin legs) at 9000 deep points, no
+ * coarse level. */
 static void test_same_result(void **state)
 {
 	(void)state;
@@ -131,6 +132,10 @@ static void test_same_result(void **state)
 	assert_int_equal(res[0].sink_stats.settled_flat, res[1].sink_stats.settled_flat);
 	assert_int_equal(res[0].sink_stats.settled_medial, res[1].sink_stats.settled_medial);
 	assert_int_equal(res[0].surface_stats.normals_disagreeing, res[1].surface_stats.normals_disagreeing);
+	assert_true(res[0].surface_stats.reattached > 0);
+	assert_int_equal(res[0].surface_stats.reattached, res[1].surface_stats.reattached);
+	assert_int_equal(res[0].surface_stats.escaped, res[1].surface_stats.escaped);
+	assert_true(res[0].surface_stats.iterations == res[1].surface_stats.iterations);
 	assert_true(res[0].surface_stats.pair_evaluations > 0.0);
 	assert_true(res[0].surface_stats.pair_evaluations == res[1].surface_stats.pair_evaluations);
 	assert_true(res[0].skeleton_stats.pair_evaluations == res[1].skeleton_stats.pair_evaluations);
