@@ -92,9 +92,8 @@ static void assert_same_cloud(const dp_cloud *a, const dp_cloud *b, const char *
 }
 
 /* Large enough that every threaded loop (medial test, width bound, flat
- * faces, PCA frames, the surface iteration's loops, pair counts) really
- * splits: the demo chair (flat faces, thin legs) at 9000 deep points, no
- * coarse level. */
+ * faces, PCA frames, normal update, pair counts) really splits: the demo
+ * chair (flat faces, thin legs) at 9000 deep points, no coarse level. */
 static void test_same_result(void **state)
 {
 	(void)state;

@@ -214,8 +214,7 @@ DP_API void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *us
 /*
  * How many threads the host side of every later call on ctx may use for its
  * loops over points (the sinking's medial test, width bound and flat faces,
- * the skeleton's PCA frames, the surface stage's per-point loops, pair
- * accounting);
+ * the skeleton's PCA frames, the surface stage's normals, pair accounting);
  * the OpenCL kernels are the device's business. 0 or less means the CPUs the
  * process may run on (its affinity: a Slurm job's or a container's share; the
  * default), 1 one thread; at most 64 are used. Results do not depend on it.

@@ -95,8 +95,6 @@ typedef struct work {
 	dp_ball_set balls;
 	uint32_t *of;           /* skeleton merge: first point of each merged position */
 	double *move, *spacing; /* per iteration (in r), for the stopping test */
-	double *step;           /* per point: its move this iteration, summed in order */
-	int threads;
 	double *cv;             /* per iteration: variation of the NN spacing (std / mean) */
 	dp_grid input, surface, skeleton;
 } work;
@@ -111,7 +109,6 @@ static void work_free(work *w)
 	dp_ball_set_free(&w->balls);
 	free(w->of);
 	free(w->move);
-	free(w->step);
 	free(w->spacing);
 	free(w->cv);
 	dp_grid_free(&w->input);
@@ -130,7 +127,6 @@ static dp_status work_alloc(work *w, size_t n, int max_iters, dp_error *err)
 	ok &= (w->escape = dp_alloc_array(n, sizeof(int32_t))) != NULL;
 	ok &= (w->of = dp_alloc_array(n, sizeof(uint32_t))) != NULL;
 	ok &= (w->move = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
-	ok &= (w->step = dp_alloc_array(n, sizeof(double))) != NULL;
 	ok &= (w->spacing = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
 	ok &= (w->cv = dp_alloc_array((size_t)max_iters + 1, sizeof(double))) != NULL;
 	if (!ok) {
@@ -202,80 +198,33 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 	return balls ? check_balls(balls, samples->n, err) : DP_OK;
 }
 
-/* The per-point loops of an iteration run on the context's threads: each
- * point writes only its own rows, counts are per range, and the mean move is
- * summed over the points in order afterwards, so the result does not depend
- * on the thread count. A thread gets at least this many points (a point's
- * work is tens of nanoseconds). */
-#define LOOP_MIN_ITEMS 4096
-
-typedef struct loop_job {
-	work *w;
-	const dp_surface_params *p;
-	float min_len;
-	double r;
-	int same_side, with_lengths;
-	size_t count[DP_PARALLEL_MAX];
-} loop_job;
-
-static size_t count_sum(const loop_job *job, int parts)
+/* The normals in the surface grid's order, for the same-sided tests. */
+static void gather_normals(work *w)
 {
-	size_t total = 0;
-	for (int k = 0; k < parts; k++)
-		total += job->count[k];
-	return total;
-}
-
-/* The normals in the surface grid's order, for the same-sided tests, and
- * with `with_lengths` the dpoint lengths too. */
-static void gather_range(void *arg, size_t begin, size_t end, int part)
-{
-	(void)part;
-	loop_job *job = arg;
-	float **a = job->w->a;
-	const uint32_t *perm = job->w->surface.perm;
-	for (size_t k = begin; k < end; k++) {
-		uint32_t i = perm[k];
-		a[A_GNX][k] = a[A_NX][i];
-		a[A_GNY][k] = a[A_NY][i];
-		a[A_GNZ][k] = a[A_NZ][i];
-	}
-	if (job->with_lengths)
-		for (size_t k = begin; k < end; k++)
-			a[A_GLEN][k] = a[A_LEN][perm[k]];
-}
-
-static void gather(work *w, int with_lengths)
-{
-	loop_job job = {.w = w, .with_lengths = with_lengths};
-	dp_parallel_for(w->threads, w->surface.n, LOOP_MIN_ITEMS, gather_range, &job);
+	dp_grid_gather(&w->surface, w->a[A_NX], w->a[A_GNX]);
+	dp_grid_gather(&w->surface, w->a[A_NY], w->a[A_GNY]);
+	dp_grid_gather(&w->surface, w->a[A_NZ], w->a[A_GNZ]);
 }
 
 /* Dpoint lengths and their grid-order copy for the neighbour pass, and each
  * point's side for the data term: input counts when it lies in front of the
  * inner end along m_i ((c - p)·m + |p - q| > 0). Without the test, or where
  * the dpoint has no length to tell a side by, s = 0 admits all input. */
-static void lengths_range(void *arg, size_t begin, size_t end, int part)
+static void lengths(work *w, size_t n, double r, int same_side)
 {
-	(void)part;
-	loop_job *job = arg;
-	float **a = job->w->a;
-	for (size_t i = begin; i < end; i++) {
+	float **a = w->a;
+	float min_len = DP_PAIR_EPS * (float)r;
+	for (size_t i = 0; i < n; i++) {
 		float d[3] = {a[A_PX][i] - a[A_QX][i], a[A_PY][i] - a[A_QY][i], a[A_PZ][i] - a[A_QZ][i]};
 		float len = sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-		int sided = job->same_side && len > job->min_len;
+		int sided = same_side && len > min_len;
 		a[A_LEN][i] = len;
 		for (int c = 0; c < 3; c++)
 			a[A_SX + c][i] = sided ? d[c] / len : 0.0f;
 		a[A_DEPTH][i] = sided ? len : 1.0f;
 	}
-}
-
-static void lengths(work *w, size_t n, double r, int same_side)
-{
-	loop_job job = {.w = w, .min_len = DP_PAIR_EPS * (float)r, .same_side = same_side};
-	dp_parallel_for(w->threads, n, LOOP_MIN_ITEMS, lengths_range, &job);
-	gather(w, 1);
+	dp_grid_gather(&w->surface, a[A_LEN], a[A_GLEN]);
+	gather_normals(w);
 }
 
 /* The dpoint orientation m_i of the current p_i and its length; the normal
@@ -311,13 +260,11 @@ static void dpoint(float **a, size_t i, float min_len, float m[3], float *len_ou
  * coverage falls (chair 0.87 -> 0.69, bunny 0.966 -> 0.927, one-view bunny
  * 0.76 -> 0.57), because spreading into a hole thins its front the same way:
  * completion by repulsion needs the escape. Hence off by default. */
-static void slide_range(void *arg, size_t begin, size_t end, int part)
+static void slide(work *w, size_t n, const dp_surface_params *p, double r)
 {
-	(void)part;
-	loop_job *job = arg;
-	float **a = job->w->a, mu = (float)job->p->mu_hat;
-	float reach = (float)(job->p->slide_reach_r * job->r);
-	for (size_t i = begin; i < end; i++) {
+	float **a = w->a, mu = (float)p->mu_hat;
+	float reach = (float)(p->slide_reach_r * r);
+	for (size_t i = 0; i < n; i++) {
 		if (reach > 0.0f && a[A_NN][i] > reach)
 			a[A_RX][i] = a[A_RY][i] = a[A_RZ][i] = 0.0f;
 		for (int c = 0; c < 3; c++)
@@ -325,22 +272,14 @@ static void slide_range(void *arg, size_t begin, size_t end, int part)
 	}
 }
 
-static void slide(work *w, size_t n, const dp_surface_params *p, double r)
-{
-	loop_job job = {.w = w, .p = p, .r = r};
-	dp_parallel_for(w->threads, n, LOOP_MIN_ITEMS, slide_range, &job);
-}
-
 /* The data and prior part of the update of DESIGN 4.3 at the slid p_i with
  * the (re-attached) q_i. Returns the mean move of the whole iteration in r. */
-static void settle_range(void *arg, size_t begin, size_t end, int part)
+static double settle(work *w, size_t n, double r, const dp_surface_params *p)
 {
-	(void)part;
-	loop_job *job = arg;
-	const dp_surface_params *p = job->p;
-	float **a = job->w->a;
-	float min_len = job->min_len, mu = (float)p->mu_hat;
-	for (size_t i = begin; i < end; i++) {
+	float **a = w->a;
+	float min_len = DP_PAIR_EPS * (float)r, mu = (float)p->mu_hat;
+	double total = 0.0;
+	for (size_t i = 0; i < n; i++) {
 		float nrm[3] = {a[A_NX][i], a[A_NY][i], a[A_NZ][i]};
 		float m[3], len;
 		dpoint(a, i, min_len, m, &len);
@@ -371,17 +310,8 @@ static void settle_range(void *arg, size_t begin, size_t end, int part)
 			double whole = (double)step + (double)mu * a[A_RX + c][i];
 			move2 += whole * whole;
 		}
-		job->w->step[i] = sqrt(move2);
+		total += sqrt(move2);
 	}
-}
-
-static double settle(work *w, size_t n, double r, const dp_surface_params *p)
-{
-	loop_job job = {.w = w, .p = p, .min_len = DP_PAIR_EPS * (float)r};
-	dp_parallel_for(w->threads, n, LOOP_MIN_ITEMS, settle_range, &job);
-	double total = 0.0;
-	for (size_t i = 0; i < n; i++)
-		total += w->step[i];
 	return total / (double)n / r;
 }
 
@@ -426,14 +356,12 @@ static dp_status skeleton_grid(work *w, const dp_cloud *k, size_t n, double r, f
 }
 
 /* Re-attachment: q_i ← the chosen skeleton point. Returns how many changed. */
-static void reattach_range(void *arg, size_t begin, size_t end, int part)
+static size_t reattach(work *w, size_t n)
 {
-	loop_job *job = arg;
-	work *w = job->w;
 	float **a = w->a;
 	const dp_grid *k = &w->skeleton;
 	size_t changed = 0;
-	for (size_t i = begin; i < end; i++) {
+	for (size_t i = 0; i < n; i++) {
 		int32_t b = w->best[i];
 		if (b < 0 || (k->x[b] == a[A_QX][i] && k->y[b] == a[A_QY][i] && k->z[b] == a[A_QZ][i]))
 			continue;
@@ -442,13 +370,7 @@ static void reattach_range(void *arg, size_t begin, size_t end, int part)
 		a[A_QZ][i] = k->z[b];
 		changed++;
 	}
-	job->count[part] = changed;
-}
-
-static size_t reattach(work *w, size_t n)
-{
-	loop_job job = {.w = w};
-	return count_sum(&job, dp_parallel_for(w->threads, n, LOOP_MIN_ITEMS, reattach_range, &job));
+	return changed;
 }
 
 typedef struct normals_job {
@@ -524,15 +446,14 @@ static size_t update_normals(int threads, work *w, size_t n, double r, int orien
 	return disagreeing;
 }
 
-static void escape_decide_range(void *arg, size_t begin, size_t end, int part)
+/* The inside test (balls.h): decides every move first, from the inner ends
+ * as they are, then moves. Returns how many moved. */
+static size_t escape(work *w, size_t n, double r, const dp_surface_params *p)
 {
-	(void)part;
-	loop_job *job = arg;
-	work *w = job->w;
 	float **a = w->a;
-	float margin = (float)(job->p->escape_margin_r * job->r);
+	float margin = (float)(p->escape_margin_r * r);
 	const dp_ball_set *b = &w->balls;
-	for (size_t i = begin; i < end; i++) {
+	for (size_t i = 0; i < n; i++) {
 		float dist = 0.0f;
 		int32_t k = a[A_ETA][i] - 1.0f < HELD_SUPPORT
 				    ? dp_ball_set_deepest(b, a[A_PX][i], a[A_PY][i], a[A_PZ][i], a[A_NX][i], a[A_NY][i],
@@ -544,16 +465,8 @@ static void escape_decide_range(void *arg, size_t begin, size_t end, int part)
 			for (int d = 0; d < 3; d++)
 				a[A_EX + d][i] = a[A_QX + d][b->row[k]];
 	}
-}
-
-static void escape_move_range(void *arg, size_t begin, size_t end, int part)
-{
-	loop_job *job = arg;
-	work *w = job->w;
-	float **a = w->a;
-	const dp_ball_set *b = &w->balls;
 	size_t moved = 0;
-	for (size_t i = begin; i < end; i++) {
+	for (size_t i = 0; i < n; i++) {
 		int32_t k = w->escape[i];
 		if (k < 0)
 			continue;
@@ -564,16 +477,7 @@ static void escape_move_range(void *arg, size_t begin, size_t end, int part)
 		}
 		moved++;
 	}
-	job->count[part] = moved;
-}
-
-/* The inside test (balls.h): decides every move first, from the inner ends
- * as they are, then moves. Returns how many moved. */
-static size_t escape(work *w, size_t n, double r, const dp_surface_params *p)
-{
-	loop_job job = {.w = w, .p = p, .r = r};
-	dp_parallel_for(w->threads, n, LOOP_MIN_ITEMS, escape_decide_range, &job);
-	return count_sum(&job, dp_parallel_for(w->threads, n, LOOP_MIN_ITEMS, escape_move_range, &job));
+	return moved;
 }
 
 /* Compares the last `window` iterations with the `window` before them (means,
@@ -683,7 +587,7 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 			st->escaped += escape(w, n, r, p);
 		if ((s = dp_grid_build(&w->surface, n, a[A_PX], a[A_PY], a[A_PZ], surface_cell, err)) != DP_OK)
 			return s;
-		gather(w, 0);
+		gather_normals(w);
 		if ((s = dp_op_surface_covariance(ctx, &cov, err)) != DP_OK)
 			return s;
 		st->normals_disagreeing = update_normals(ctx->threads, w, n, r, p->orient_by_dpoint);
@@ -722,7 +626,6 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	work w;
 	if ((s = work_alloc(&w, n, params->max_iters, err)) != DP_OK)
 		return s;
-	w.threads = ctx->threads;
 	dp_surface_stats st = {0};
 	double pairs0 = ctx->pair_evaluations;
 	s = run(ctx, input, samples, skeleton, balls, r, params, &w, &st, err);
