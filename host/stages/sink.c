@@ -216,6 +216,21 @@ static float depth_of(const sink_state *st, size_t i)
  * points: a test is a few microseconds, a thread's start and join tens. */
 #define SETTLE_MIN_ITEMS 256
 
+/* Drops the listed points a threaded test marked settled (it marks, the list
+ * is compacted here, in order); returns how many. */
+static size_t drop_settled(sink_state *st)
+{
+	size_t kept = 0;
+	for (size_t j = 0; j < st->nlist; j++) {
+		uint32_t i = st->list[j];
+		if (st->settled[i] == DP_SETTLE_NONE)
+			st->list[kept++] = i;
+	}
+	size_t dropped = st->nlist - kept;
+	st->nlist = kept;
+	return dropped;
+}
+
 typedef struct medial_job {
 	sink_state *st;
 	float margin;
@@ -254,15 +269,7 @@ static void settle_past_medial(int threads, sink_state *st, float margin, size_t
 		return;
 	medial_job job = {st, margin};
 	dp_parallel_for(threads, st->nlist, SETTLE_MIN_ITEMS, medial_range, &job);
-	size_t kept = 0;
-	for (size_t j = 0; j < st->nlist; j++) {
-		uint32_t i = st->list[j];
-		if (st->settled[i] == DP_SETTLE_MEDIAL)
-			(*settled)++;
-		else
-			st->list[kept++] = i;
-	}
-	st->nlist = kept;
+	*settled = drop_settled(st);
 }
 
 /* The width bound (width.h): an inner point as deep as its surface point's
@@ -285,15 +292,7 @@ static void settle_by_width(int threads, sink_state *st, size_t *settled)
 	if (!st->width_on)
 		return;
 	dp_parallel_for(threads, st->nlist, SETTLE_MIN_ITEMS, width_range, st);
-	size_t kept = 0;
-	for (size_t j = 0; j < st->nlist; j++) {
-		uint32_t i = st->list[j];
-		if (st->settled[i] == DP_SETTLE_WIDTH)
-			(*settled)++;
-		else
-			st->list[kept++] = i;
-	}
-	st->nlist = kept;
+	*settled = drop_settled(st);
 }
 
 /* Step lengths t of the unsettled points into C_STEP (compacted); points whose
