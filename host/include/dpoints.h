@@ -661,7 +661,7 @@ typedef enum dp_surface_prior {
 
 typedef struct dp_surface_params {
 	double sigma_p;           /* neighbourhood radius of C_i and P_i, r; default 5 */
-	double mu_hat;            /* tangential repulsion μ̂, in [0, 1]; default 0.4 */
+	double mu_hat;            /* tangential repulsion μ̂, in [0, 1]; default 0.2 (the paper's 0.4 never settles: surface.c) */
 	dp_surface_prior prior;   /* default DP_SURFACE_PRIOR_VOLUME */
 	int data_along_normal;    /* 1: data term n nᵀ(c̄ - p) (step 4 above); 0: c̄ - p as Eq. 6 is printed; default 1 */
 	double tangent_floor_r;   /* smallest tangential distance in β̂, r (> 0); default 0.01 */
