@@ -5,6 +5,7 @@
 
 #include "core/parallel.h"
 
+#include <pthread.h>
 #include <stdlib.h>
 #include <string.h>
 
@@ -61,6 +62,62 @@ static void test_ranges(void **state)
 	assert_int_equal(dp_parallel_parts(64, 512, 256), 2);
 	assert_int_equal(dp_parallel_parts(2, 100000, 256), 2);
 	free(count);
+}
+
+/* The pool runs one loop at a time: a loop started from inside a range, or by
+ * a second program thread while one runs, must still run every item once and
+ * never wait on the pool. */
+#define BUSY_N 3000
+#define BUSY_ROUNDS 200
+
+typedef struct busy_loop {
+	unsigned short count[BUSY_N];
+	int nested; /* ranges start a loop of their own */
+} busy_loop;
+
+static void count_range(void *arg, size_t begin, size_t end, int part)
+{
+	(void)part;
+	unsigned short *count = arg;
+	for (size_t i = begin; i < end; i++)
+		count[i]++;
+}
+
+static void nesting_range(void *arg, size_t begin, size_t end, int part)
+{
+	(void)part;
+	busy_loop *b = arg;
+	for (size_t i = begin; i < end; i++)
+		b->count[i]++;
+	if (b->nested) {
+		/* every one of this range's items once more, split again */
+		unsigned short *mine = b->count + begin;
+		dp_parallel_for(3, end - begin, 16, count_range, mine);
+	}
+}
+
+static void *busy_rounds(void *arg)
+{
+	busy_loop *b = arg;
+	for (int round = 0; round < BUSY_ROUNDS; round++)
+		dp_parallel_for(4, BUSY_N, 16, nesting_range, b);
+	return NULL;
+}
+
+static void test_pool_busy(void **state)
+{
+	(void)state;
+	static busy_loop loops[2];
+	memset(loops, 0, sizeof loops);
+	loops[1].nested = 1;
+	pthread_t other;
+	assert_int_equal(pthread_create(&other, NULL, busy_rounds, &loops[1]), 0);
+	busy_rounds(&loops[0]);
+	assert_int_equal(pthread_join(other, NULL), 0);
+	for (size_t i = 0; i < BUSY_N; i++) {
+		assert_int_equal(loops[0].count[i], BUSY_ROUNDS);
+		assert_int_equal(loops[1].count[i], 2 * BUSY_ROUNDS);
+	}
 }
 
 static void test_context_threads(void **state)
@@ -148,6 +205,7 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_ranges),
+		cmocka_unit_test(test_pool_busy),
 		cmocka_unit_test(test_context_threads),
 		cmocka_unit_test(test_same_result),
 	};

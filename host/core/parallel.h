@@ -7,7 +7,8 @@
  *
  * Each thread gets one contiguous range and writes only the outputs of its
  * own items, so the result does not depend on the thread count; reductions
- * are per range and added in range order by the caller. */
+ * are per range and added in range order by the caller. The threads are a
+ * pool kept for the life of the process (parallel.c has why). */
 #ifndef DP_CORE_PARALLEL_H
 #define DP_CORE_PARALLEL_H
 
