@@ -138,21 +138,23 @@ static void test_plate(void **state)
 /* The plate of test_plate with side samples at spacing 1 half a step outside
  * its rim, normals out, in `rows` rows going down (dir -1: an edge band) or
  * up (+1: a wall rising from the face's edge), settled on evidence. The
- * rim's evidence says 3, 3.5 and 4 (deeper than a thin plate's half).
+ * rim's evidence says 3, 3.5 and 4 (deeper than a thin plate's half), its
+ * normals turned `tilt` degrees about the x axis (a crease's PCA normals).
  * Returns the middle's depth. */
-static double plate_with_side(int rows, double dir)
+static double plate_with_side(int rows, double dir, double tilt)
 {
 	int side = 41;
 	size_t face = (size_t)side * side, n = face + 4 * (size_t)side * (size_t)rows;
 	pts s;
 	pts_alloc(&s, n);
-	double up[3] = {0, 0, 1};
+	double up[3] = {0, 0, 1}, turned[3] = {0, sin(tilt * M_PI / 180.0), cos(tilt * M_PI / 180.0)};
 	for (int i = 0; i < side; i++)
 		for (int j = 0; j < side; j++) {
 			size_t k = (size_t)i * side + (size_t)j;
 			int ring = ring_of(i, j, side);
 			double p[3] = {i, j, 0};
-			set(&s, k, p, up, ring < 3 ? 3.0 + 0.5 * ring : 8.0, ring < 3 ? DP_SETTLE_FRONT : DP_SETTLE_SLOW);
+			set(&s, k, p, ring < 3 ? turned : up, ring < 3 ? 3.0 + 0.5 * ring : 8.0,
+			    ring < 3 ? DP_SETTLE_FRONT : DP_SETTLE_SLOW);
 		}
 	size_t k = face;
 	for (int e = 0; e < side; e++)
@@ -176,19 +178,24 @@ static double plate_with_side(int rows, double dir)
 
 static double plate_with_band(int rows)
 {
-	return plate_with_side(rows, -1.0);
+	return plate_with_side(rows, -1.0, 0.0);
 }
 
 static void test_plate_band(void **state)
 {
 	(void)state;
-	/* the band's lowest samples lie 2.5 below the face: half of that */
-	assert_true(fabs(plate_with_band(3) - 1.25) < 1e-4);
+	/* the band's lowest samples lie 2.5 below the face, and a band is read
+	 * one spacing taller than that (flat.h): half of 3.5 */
+	assert_true(fabs(plate_with_band(3) - 1.75) < 1e-4);
 	/* a side as tall as the search ball shows is no plate's edge: the
 	 * median of the rim's evidence, 3.5 */
 	assert_true(fabs(plate_with_band(12) - 3.5) < 1e-4);
 	/* a wall rising from the face (a chair's back from its seat) is no edge */
-	assert_true(fabs(plate_with_side(3, 1.0) - 3.5) < 1e-4);
+	assert_true(fabs(plate_with_side(3, 1.0, 0.0) - 3.5) < 1e-4);
+	/* evidence whose normals are turned round the crease can neither read
+	 * the band nor pass its depth to the face; the face's own samples read
+	 * the band (without them the middle stayed 8 deep) */
+	assert_true(fabs(plate_with_side(3, -1.0, 30.0) - 1.75) < 1e-4);
 }
 
 /* A sphere of radius 20 at spacing about 1, normals out, every point slowed

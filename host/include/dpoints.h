@@ -465,8 +465,11 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     Where an edge band shows below the face (samples within 8 r turned a
  *     right angle away and lying below its plane, not reaching as far down
  *     as the search shows), the face is at most half as deep as that band
- *     is tall: the rim's evidence overshoots a plate's middle (the seat's
- *     3.5 r for a half thickness of 2.1 r; with the band 1.6 r).
+ *     is tall, read one r taller than its deepest sample reaches and beside
+ *     every sample that stopped without evidence as well: the rim's evidence
+ *     overshoots a plate's middle, and along a crease its normals are turned
+ *     too far to read the band (the seat's 3.5 r and the back rest's 3.2-3.8 r
+ *     for a half thickness of 2.1 r; with the band 2.1-2.2 r and 1.9 r).
  */
 typedef struct dp_sink_params {
 	double sigma_p;          /* static neighbourhood radius σp, in r; default 5 */

@@ -86,7 +86,7 @@ typedef struct flat_job {
 	const float *own;
 	float *cap, *half;
 	uint32_t *origin;
-	float rim2, band2, min_cos, sin_a;
+	float rim2, band2, min_cos, sin_a, band_end;
 	double below_min;
 	uint32_t *ridx, *bidx;   /* DP_FLAT_RIM_COUNT, DP_FLAT_BAND_COUNT per part */
 	float *rd2, *rdepth, *bd2;
@@ -100,7 +100,8 @@ static float cosine(const float *const normal[3], size_t i, size_t o)
 /* An evidence point's depth says how far its own ball reaches, which near a
  * rim runs from 0 at the crease to the full thickness a thickness in; the
  * face's is the median over the evidence around it that faces the same way,
- * and at most half the height of the edge band beside it (flat.h). */
+ * and at most half the height of the edge band beside it (flat.h). A sample
+ * that stopped without evidence offers its edge band's half height alone. */
 static void evidence_range(void *arg, size_t begin, size_t end, int part)
 {
 	flat_job *job = arg;
@@ -111,7 +112,8 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 	for (size_t i = begin; i < end; i++) {
 		job->origin[i] = NO_ORIGIN;
 		job->cap[i] = INFINITY;
-		if (!evidence(job->settled_by[i]))
+		int ev = evidence(job->settled_by[i]);
+		if (!ev && job->settled_by[i] != DP_SETTLE_SLOW && job->settled_by[i] != DP_SETTLE_WIDTH)
 			continue;
 		size_t found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->rim2, DP_FLAT_RIM_COUNT, ridx, rd2);
 		size_t m = 0, facing = 0, all = 0;
@@ -124,11 +126,13 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 			if (evidence(job->settled_by[o]))
 				rdepth[m++] = job->own[o];
 		}
-		if (m == 0)
-			continue; /* the radius search missed the point itself: NaN coordinates, checked before */
-		qsort(rdepth, m, sizeof *rdepth, by_value);
-		job->cap[i] = rdepth[m / 2];
-		job->origin[i] = (uint32_t)i;
+		if (ev) {
+			if (m == 0)
+				continue; /* the radius search missed the point itself: NaN coordinates, checked before */
+			qsort(rdepth, m, sizeof *rdepth, by_value);
+			job->cap[i] = rdepth[m / 2];
+			job->origin[i] = (uint32_t)i;
+		}
 		/* only a flat face has an edge band: around a rounded part's point
 		 * the samples facing its way are few, and the ones turned away by
 		 * a right angle are no plate's edge */
@@ -151,12 +155,14 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 		}
 		/* the search ball shows a band as far down as its radius allows
 		 * beside the point: a band that ends well above that is a plate's */
-		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(job->band2 - aside2, 0.0f)))
-			job->half[i] = 0.5f * reach;
+		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(job->band2 - aside2, 0.0f))) {
+			job->half[i] = 0.5f * (reach + job->band_end);
+			job->origin[i] = (uint32_t)i;
+		}
 	}
 }
 
-/* Like the depths, the band's half thickness is the median over the evidence
+/* Like the depths, the band's half thickness is the median over the samples
  * around that faces the same way: one short band does not set a face. */
 static void band_median_range(void *arg, size_t begin, size_t end, int part)
 {
@@ -220,7 +226,7 @@ dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const floa
 	}
 	flat_job job = {
 		.p = p, .normal = normal, .settled_by = settled_by, .tree = &tree, .own = own, .cap = cap,
-		.half = half, .origin = origin, .min_cos = min_cos, .sin_a = sin_a,
+		.half = half, .origin = origin, .min_cos = min_cos, .sin_a = sin_a, .band_end = (float)(DP_FLAT_BAND_END_R * r),
 		.rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r), .band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r),
 		.below_min = DP_FLAT_BAND_BELOW_R * r, .ridx = ridx, .bidx = bidx, .rd2 = rd2, .rdepth = rdepth,
 		.bd2 = bd2,
