@@ -161,7 +161,10 @@ int dp_parallel_for(int threads, size_t n, size_t min_items, dp_range_fn fn, voi
 	p->next = 1; /* range 0 is the caller's, as documented */
 	p->unfinished = parts - 1;
 	p->loop++;
-	pthread_cond_broadcast(&p->posted);
+	/* wake only as many as there are ranges for: a loop of few ranges on a
+	 * pool of many would otherwise wake them all for nothing */
+	for (int k = 1; k < parts; k++)
+		pthread_cond_signal(&p->posted);
 	pthread_mutex_unlock(&p->lock);
 	fn(arg, 0, range_begin(n, parts, 1), 0);
 	pthread_mutex_lock(&p->lock);
