@@ -123,7 +123,7 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 			if (cosine(normal, i, o) < job->min_cos)
 				continue;
 			facing++;
-			if (evidence(job->settled_by[o]))
+			if (ev && evidence(job->settled_by[o]))
 				rdepth[m++] = job->own[o];
 		}
 		if (ev) {

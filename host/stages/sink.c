@@ -213,7 +213,8 @@ static float depth_of(const sink_state *st, size_t i)
 }
 
 /* A thread of the medial test and the width bound gets at least this many
- * points: a test is a few microseconds, a thread's start and join tens. */
+ * points: a test is a few microseconds, handing a range to a pool worker
+ * several. */
 #define SETTLE_MIN_ITEMS 256
 
 /* Drops the listed points a threaded test marked settled (it marks, the list
