@@ -8,6 +8,7 @@
 
 #include <math.h>
 #include <stdlib.h>
+#include <string.h>
 
 #define NO_ORIGIN UINT32_MAX
 /* A thread of the evidence passes gets at least this many samples (two
@@ -77,77 +78,55 @@ static float depth(const float *const p[3], float *const q[3], size_t i)
 	return sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
-/* What the per-evidence passes share; each range writes only its own
- * samples' slots and has its own search buffers. */
-typedef struct flat_job {
-	const float *const *p, *const *normal;
-	const unsigned char *settled_by;
-	const dp_kdtree *tree;
-	const float *own;
-	float *cap, *half;
-	uint32_t *origin;
-	float rim2, band2, min_cos, sin_a, band_end;
-	double below_min;
-	uint32_t *ridx, *bidx;   /* DP_FLAT_RIM_COUNT, DP_FLAT_BAND_COUNT per part */
-	float *rd2, *rdepth, *bd2;
-} flat_job;
-
 static float cosine(const float *const normal[3], size_t i, size_t o)
 {
 	return normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
 }
 
-/* An evidence point's depth says how far its own ball reaches, which near a
- * rim runs from 0 at the crease to the full thickness a thickness in; the
- * face's is the median over the evidence around it that faces the same way,
- * and at most half the height of the edge band beside it (flat.h). A sample
- * that stopped without evidence offers its edge band's half height alone. */
-static void evidence_range(void *arg, size_t begin, size_t end, int part)
+/* Search buffers of one range. */
+typedef struct buffers {
+	uint32_t *idx;
+	float *d2, *value;
+} buffers;
+
+static buffers part_buffers(const dp_flat *f, int part, size_t count)
 {
-	flat_job *job = arg;
-	const float *const *p = job->p, *const *normal = job->normal;
-	uint32_t *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT, *bidx = job->bidx + (size_t)part * DP_FLAT_BAND_COUNT;
-	float *rd2 = job->rd2 + (size_t)part * DP_FLAT_RIM_COUNT, *rdepth = job->rdepth + (size_t)part * DP_FLAT_RIM_COUNT;
-	float *bd2 = job->bd2 + (size_t)part * DP_FLAT_BAND_COUNT;
+	size_t off = (size_t)part * count;
+	return (buffers){f->sidx + off, f->sd2 + off, f->svalue + off};
+}
+
+/* The edge band beside each sample (flat.h): half the height it shows below
+ * the sample's plane plus DP_FLAT_BAND_END_R, or INFINITY where there is
+ * none. Geometry alone, so the context computes it once. Each range writes
+ * only its own samples' slots. */
+static void band_range(void *arg, size_t begin, size_t end, int part)
+{
+	dp_flat *f = arg;
+	const float *const *p = f->p, *const *normal = f->normal;
+	buffers b = part_buffers(f, part, DP_FLAT_BAND_COUNT);
 	for (size_t i = begin; i < end; i++) {
-		job->origin[i] = NO_ORIGIN;
-		job->cap[i] = INFINITY;
-		int ev = evidence(job->settled_by[i]);
-		if (!ev && job->settled_by[i] != DP_SETTLE_SLOW && job->settled_by[i] != DP_SETTLE_WIDTH)
-			continue;
-		size_t found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->rim2, DP_FLAT_RIM_COUNT, ridx, rd2);
-		size_t m = 0, facing = 0, all = 0;
-		for (size_t j = 0; j < found; j++) {
-			uint32_t o = ridx[j];
-			all++;
-			if (cosine(normal, i, o) < job->min_cos)
-				continue;
-			facing++;
-			if (ev && evidence(job->settled_by[o]))
-				rdepth[m++] = job->own[o];
-		}
-		if (ev) {
-			if (m == 0)
-				continue; /* the radius search missed the point itself: NaN coordinates, checked before */
-			qsort(rdepth, m, sizeof *rdepth, by_value);
-			job->cap[i] = rdepth[m / 2];
-			job->origin[i] = (uint32_t)i;
-		}
+		f->half[i] = INFINITY;
 		/* only a flat face has an edge band: around a rounded part's point
 		 * the samples facing its way are few, and the ones turned away by
 		 * a right angle are no plate's edge */
-		if (facing < DP_FLAT_FACE_FRACTION * all)
+		size_t found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->rim2, DP_FLAT_RIM_COUNT,
+							b.idx, b.d2);
+		size_t facing = 0;
+		for (size_t j = 0; j < found; j++)
+			facing += cosine(normal, i, b.idx[j]) >= f->min_cos;
+		if (facing < DP_FLAT_FACE_FRACTION * found)
 			continue;
-		found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->band2, DP_FLAT_BAND_COUNT, bidx, bd2);
+		found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->band2, DP_FLAT_BAND_COUNT, b.idx,
+						 b.d2);
 		size_t band = 0;
 		float reach = 0.0f, aside2 = INFINITY;
 		for (size_t j = 0; j < found; j++) {
-			uint32_t o = bidx[j];
-			if (!(fabsf(cosine(normal, i, o)) <= job->sin_a))
+			uint32_t o = b.idx[j];
+			if (!(fabsf(cosine(normal, i, o)) <= f->sin_a))
 				continue;
 			float d[3] = {p[0][o] - p[0][i], p[1][o] - p[1][i], p[2][o] - p[2][i]};
 			float below = -(normal[0][i] * d[0] + normal[1][i] * d[1] + normal[2][i] * d[2]);
-			if (!(below > job->below_min))
+			if (!(below > f->below_min))
 				continue; /* beside or above the face: no edge of it */
 			reach = fmaxf(reach, below);
 			aside2 = fminf(aside2, d[0] * d[0] + d[1] * d[1] + d[2] * d[2] - below * below);
@@ -155,139 +134,213 @@ static void evidence_range(void *arg, size_t begin, size_t end, int part)
 		}
 		/* the search ball shows a band as far down as its radius allows
 		 * beside the point: a band that ends well above that is a plate's */
-		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(job->band2 - aside2, 0.0f))) {
-			job->half[i] = 0.5f * (reach + job->band_end);
-			job->origin[i] = (uint32_t)i;
-		}
+		if (band >= DP_FLAT_BAND_MIN && reach < DP_FLAT_BAND_TALL * sqrtf(fmaxf(f->band2 - aside2, 0.0f)))
+			f->half[i] = 0.5f * (reach + f->band_end);
 	}
 }
 
 /* Like the depths, the band's half thickness is the median over the samples
- * around that faces the same way: one short band does not set a face. */
+ * around that face the same way: one short band does not set a face. */
 static void band_median_range(void *arg, size_t begin, size_t end, int part)
 {
-	flat_job *job = arg;
-	const float *const *p = job->p;
-	uint32_t *ridx = job->ridx + (size_t)part * DP_FLAT_RIM_COUNT;
-	float *rd2 = job->rd2 + (size_t)part * DP_FLAT_RIM_COUNT, *rdepth = job->rdepth + (size_t)part * DP_FLAT_RIM_COUNT;
+	dp_flat *f = arg;
+	const float *const *p = f->p;
+	buffers b = part_buffers(f, part, DP_FLAT_BAND_COUNT);
 	for (size_t i = begin; i < end; i++) {
-		if (job->origin[i] == NO_ORIGIN)
-			continue;
-		size_t found = dp_kdtree_nearest_within(job->tree, p[0][i], p[1][i], p[2][i], job->rim2, DP_FLAT_RIM_COUNT, ridx, rd2);
+		f->face_half[i] = INFINITY;
+		size_t found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->rim2, DP_FLAT_RIM_COUNT,
+							b.idx, b.d2);
 		size_t m = 0;
 		for (size_t j = 0; j < found; j++) {
-			uint32_t o = ridx[j];
-			if (isfinite(job->half[o]) && cosine(job->normal, i, o) >= job->min_cos)
-				rdepth[m++] = job->half[o];
+			uint32_t o = b.idx[j];
+			if (isfinite(f->half[o]) && cosine(f->normal, i, o) >= f->min_cos)
+				b.value[m++] = f->half[o];
 		}
 		if (m == 0)
 			continue;
-		qsort(rdepth, m, sizeof *rdepth, by_value);
-		if (rdepth[m / 2] < job->cap[i])
-			job->cap[i] = rdepth[m / 2];
+		qsort(b.value, m, sizeof *b.value, by_value);
+		f->face_half[i] = b.value[m / 2];
 	}
+}
+
+/* What one update reads besides the context. */
+typedef struct update_job {
+	dp_flat *f;
+	float *const *q;
+	const unsigned char *settled_by;
+} update_job;
+
+/* An evidence point's depth says how far its own ball reaches, which near a
+ * rim runs from 0 at the crease to the full thickness a thickness in; the
+ * face's is the median over the evidence around it that faces the same way,
+ * and at most the face's band half height (flat.h). Any other sample beside
+ * a band offers the face's band half height alone. */
+static void origin_range(void *arg, size_t begin, size_t end, int part)
+{
+	update_job *job = arg;
+	dp_flat *f = job->f;
+	const float *const *p = f->p;
+	buffers b = part_buffers(f, part, DP_FLAT_BAND_COUNT);
+	for (size_t i = begin; i < end; i++) {
+		float cap = isfinite(f->half[i]) ? f->face_half[i] : INFINITY;
+		if (job->settled_by && evidence(job->settled_by[i])) {
+			cap = f->face_half[i];
+			size_t found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->rim2,
+								DP_FLAT_RIM_COUNT, b.idx, b.d2);
+			size_t m = 0;
+			for (size_t j = 0; j < found; j++) {
+				uint32_t o = b.idx[j];
+				if (evidence(job->settled_by[o]) && cosine(f->normal, i, o) >= f->min_cos)
+					b.value[m++] = depth(p, job->q, o);
+			}
+			if (m > 0) { /* 0 only if the search missed the point itself: NaN, checked before */
+				qsort(b.value, m, sizeof *b.value, by_value);
+				cap = fminf(cap, b.value[m / 2]);
+			}
+		}
+		f->cap[i] = cap;
+		f->origin[i] = isfinite(cap) ? (uint32_t)i : NO_ORIGIN;
+	}
+}
+
+void dp_flat_update(dp_flat *f, int threads, float *const q[3], const unsigned char *settled_by)
+{
+	size_t n = f->n;
+	if (n < 2)
+		return;
+	update_job job = {f, q, settled_by};
+	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, origin_range, &job);
+	/* Best first, smallest depth first: each sample takes the first depth
+	 * that reaches it and passes on only that one, so the outcome does not
+	 * depend on the samples' order. */
+	const float *const *normal = f->normal;
+	int k = f->k;
+	size_t top = 0;
+	memset(f->done, 0, n);
+	for (size_t i = 0; i < n; i++)
+		if (f->origin[i] != NO_ORIGIN)
+			heap_push(f->heap, &top, (entry){f->cap[i], f->origin[i], (uint32_t)i});
+	while (top > 0) {
+		entry e = heap_pop(f->heap, &top);
+		if (f->done[e.point] || e.cap != f->cap[e.point] || e.origin != f->origin[e.point])
+			continue; /* a stale entry: the point was reached by a smaller depth */
+		f->done[e.point] = 1;
+		const float *on[3] = {&normal[0][e.origin], &normal[1][e.origin], &normal[2][e.origin]};
+		for (int j = 0; j < k; j++) {
+			size_t slot = e.point * (size_t)k + (size_t)j;
+			int nb = f->idx[slot];
+			if (nb < 0 || !(f->d2[slot] <= f->link2))
+				break; /* ascending: the rest are farther */
+			if (f->done[nb] || !(e.cap < f->cap[nb] || (e.cap == f->cap[nb] && e.origin < f->origin[nb])))
+				continue;
+			if (normal[0][nb] * *on[0] + normal[1][nb] * *on[1] + normal[2][nb] * *on[2] < f->min_cos)
+				continue;
+			f->cap[nb] = e.cap;
+			f->origin[nb] = e.origin;
+			heap_push(f->heap, &top, (entry){e.cap, e.origin, (uint32_t)nb});
+		}
+	}
+}
+
+int dp_flat_too_deep(const dp_flat *f, float *const q[3], size_t i, float past)
+{
+	if (f->n < 2 || !isfinite(f->cap[i]))
+		return 0;
+	float d = depth(f->p, q, i);
+	if (!(d > past * f->cap[i]))
+		return 0;
+	float s = f->cap[i] / d;
+	for (int c = 0; c < 3; c++)
+		q[c][i] = f->p[c][i] + (q[c][i] - f->p[c][i]) * s;
+	return 1;
+}
+
+void dp_flat_free(dp_flat *f)
+{
+	dp_kdtree_free(&f->tree);
+	free(f->idx);
+	free(f->d2);
+	free(f->half);
+	free(f->face_half);
+	free(f->cap);
+	free(f->origin);
+	free(f->done);
+	free(f->heap);
+	free(f->sidx);
+	free(f->sd2);
+	free(f->svalue);
+	memset(f, 0, sizeof *f);
+}
+
+dp_status dp_flat_init(dp_flat *f, int threads, size_t n, const float *const p[3], const float *const normal[3],
+		       double r, double angle_deg, dp_error *err)
+{
+	memset(f, 0, sizeof *f);
+	f->n = n;
+	for (int c = 0; c < 3; c++) {
+		f->p[c] = p[c];
+		f->normal[c] = normal[c];
+	}
+	if (n < 2)
+		return DP_OK;
+	int k = n - 1 < DP_FLAT_NEIGHBOURS ? (int)(n - 1) : DP_FLAT_NEIGHBOURS;
+	f->k = k;
+	f->idx = dp_alloc_array(n, (size_t)k * sizeof(int));
+	f->d2 = dp_alloc_array(n, (size_t)k * sizeof(float));
+	f->half = dp_alloc_array(n, sizeof(float));
+	f->face_half = dp_alloc_array(n, sizeof(float));
+	f->cap = dp_alloc_array(n, sizeof(float));
+	f->origin = dp_alloc_array(n, sizeof(uint32_t));
+	f->done = malloc(n);
+	/* every sample enters once as an origin or once per link that lowers it */
+	f->heap = dp_alloc_array(n, ((size_t)k + 1) * sizeof(entry));
+	/* search buffers, one set per range (a few hundred kB at most) */
+	f->sidx = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(uint32_t));
+	f->sd2 = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(float));
+	f->svalue = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(float));
+	dp_knn knn = {0};
+	dp_status st = DP_OK;
+	if (!f->idx || !f->d2 || !f->half || !f->face_half || !f->cap || !f->origin || !f->done || !f->heap ||
+	    !f->sidx || !f->sd2 || !f->svalue) {
+		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
+		goto out;
+	}
+	if ((st = dp_knn_build(&knn, n, p[0], p[1], p[2], err)) != DP_OK ||
+	    (st = dp_knn_self(&knn, k, f->idx, f->d2, err)) != DP_OK ||
+	    (st = dp_kdtree_build(&f->tree, n, p[0], p[1], p[2], err)) != DP_OK)
+		goto out;
+	f->min_cos = (float)cos(angle_deg * M_PI / 180.0);
+	f->sin_a = (float)sin(angle_deg * M_PI / 180.0);
+	f->band_end = (float)(DP_FLAT_BAND_END_R * r);
+	f->rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r);
+	f->band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r);
+	f->link2 = (float)(DP_FLAT_LINK_R * r * DP_FLAT_LINK_R * r);
+	f->below_min = (float)(DP_FLAT_BAND_BELOW_R * r);
+	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, band_range, f);
+	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, band_median_range, f);
+	for (size_t i = 0; i < n; i++)
+		f->cap[i] = INFINITY;
+out:
+	dp_knn_free(&knn);
+	if (st != DP_OK)
+		dp_flat_free(f);
+	return st;
 }
 
 dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const float *const normal[3], float *const q[3],
 		      unsigned char *settled_by, double r, double angle_deg, size_t *capped, dp_error *err)
 {
 	*capped = 0;
-	if (n < 2)
-		return DP_OK;
-	int k = n - 1 < DP_FLAT_NEIGHBOURS ? (int)(n - 1) : DP_FLAT_NEIGHBOURS;
-	int *idx = dp_alloc_array(n, (size_t)k * sizeof(int));
-	float *d2 = dp_alloc_array(n, (size_t)k * sizeof(float));
-	float *cap = dp_alloc_array(n, sizeof(float)), *own = dp_alloc_array(n, sizeof(float));
-	float *half = dp_alloc_array(n, sizeof(float));
-	/* search buffers, one set per range (a few hundred kB at most) */
-	uint32_t *ridx = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_RIM_COUNT * sizeof(uint32_t));
-	float *rd2 = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_RIM_COUNT * sizeof(float));
-	float *rdepth = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_RIM_COUNT * sizeof(float));
-	uint32_t *bidx = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(uint32_t));
-	float *bd2 = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(float));
-	uint32_t *origin = dp_alloc_array(n, sizeof(uint32_t));
-	unsigned char *done = calloc(n, 1);
-	/* every sample enters once as evidence or once per link that lowers it */
-	entry *heap = dp_alloc_array(n, ((size_t)k + 1) * sizeof(entry));
-	dp_knn knn = {0};
-	dp_kdtree tree = {0};
-	dp_status st = DP_OK;
-	if (!idx || !d2 || !cap || !own || !half || !origin || !ridx || !rd2 || !rdepth || !bidx || !bd2 || !done || !heap) {
-		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
-		goto out;
-	}
-	if ((st = dp_knn_build(&knn, n, p[0], p[1], p[2], err)) != DP_OK ||
-	    (st = dp_knn_self(&knn, k, idx, d2, err)) != DP_OK || (st = dp_kdtree_build(&tree, n, p[0], p[1], p[2], err)) != DP_OK)
-		goto out;
-	float min_cos = (float)cos(angle_deg * M_PI / 180.0), sin_a = (float)sin(angle_deg * M_PI / 180.0);
-	for (size_t i = 0; i < n; i++) {
-		own[i] = depth(p, q, i);
-		half[i] = INFINITY;
-	}
-	flat_job job = {
-		.p = p, .normal = normal, .settled_by = settled_by, .tree = &tree, .own = own, .cap = cap,
-		.half = half, .origin = origin, .min_cos = min_cos, .sin_a = sin_a, .band_end = (float)(DP_FLAT_BAND_END_R * r),
-		.rim2 = (float)(DP_FLAT_RIM_R * r * DP_FLAT_RIM_R * r), .band2 = (float)(DP_FLAT_BAND_R * r * DP_FLAT_BAND_R * r),
-		.below_min = DP_FLAT_BAND_BELOW_R * r, .ridx = ridx, .bidx = bidx, .rd2 = rd2, .rdepth = rdepth,
-		.bd2 = bd2,
-	};
-	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, evidence_range, &job);
-	dp_parallel_for(threads, n, FLAT_MIN_ITEMS, band_median_range, &job);
-	/* Best first, smallest depth first: each sample takes the first depth
-	 * that reaches it and passes on only that one, so the outcome does not
-	 * depend on the samples' order. */
-	float link2 = (float)(DP_FLAT_LINK_R * r * DP_FLAT_LINK_R * r);
-	size_t top = 0;
+	dp_flat f;
+	dp_status st = dp_flat_init(&f, threads, n, p, normal, r, angle_deg, err);
+	if (st != DP_OK)
+		return st;
+	dp_flat_update(&f, threads, q, settled_by);
 	for (size_t i = 0; i < n; i++)
-		if (origin[i] != NO_ORIGIN)
-			heap_push(heap, &top, (entry){cap[i], origin[i], (uint32_t)i});
-	while (top > 0) {
-		entry e = heap_pop(heap, &top);
-		if (done[e.point] || e.cap != cap[e.point] || e.origin != origin[e.point])
-			continue; /* a stale entry: the point was reached by a smaller depth */
-		done[e.point] = 1;
-		const float *on[3] = {&normal[0][e.origin], &normal[1][e.origin], &normal[2][e.origin]};
-		for (int j = 0; j < k; j++) {
-			size_t slot = e.point * (size_t)k + (size_t)j;
-			int nb = idx[slot];
-			if (nb < 0 || !(d2[slot] <= link2))
-				break; /* ascending: the rest are farther */
-			if (done[nb] || !(e.cap < cap[nb] || (e.cap == cap[nb] && e.origin < origin[nb])))
-				continue;
-			if (normal[0][nb] * *on[0] + normal[1][nb] * *on[1] + normal[2][nb] * *on[2] < min_cos)
-				continue;
-			cap[nb] = e.cap;
-			origin[nb] = e.origin;
-			heap_push(heap, &top, (entry){e.cap, e.origin, (uint32_t)nb});
+		if ((settled_by[i] == DP_SETTLE_SLOW || settled_by[i] == DP_SETTLE_WIDTH) && dp_flat_too_deep(&f, q, i, 1.0f)) {
+			settled_by[i] = DP_SETTLE_FLAT;
+			(*capped)++;
 		}
-	}
-	for (size_t i = 0; i < n; i++) {
-		if ((settled_by[i] != DP_SETTLE_SLOW && settled_by[i] != DP_SETTLE_WIDTH) || !isfinite(cap[i]))
-			continue;
-		float d = own[i];
-		if (!(d > cap[i]))
-			continue;
-		float f = cap[i] / d;
-		for (int c = 0; c < 3; c++)
-			q[c][i] = p[c][i] + (q[c][i] - p[c][i]) * f;
-		settled_by[i] = DP_SETTLE_FLAT;
-		(*capped)++;
-	}
-out:
-	dp_knn_free(&knn);
-	dp_kdtree_free(&tree);
-	free(idx);
-	free(d2);
-	free(cap);
-	free(own);
-	free(half);
-	free(origin);
-	free(done);
-	free(heap);
-	free(ridx);
-	free(rd2);
-	free(rdepth);
-	free(bidx);
-	free(bd2);
-	return st;
+	dp_flat_free(&f);
+	return DP_OK;
 }

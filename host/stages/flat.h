@@ -78,6 +78,7 @@
 #define DP_STAGES_FLAT_H
 
 #include "dpoints.h"
+#include "knn/kdtree.h"
 
 /* Samples closer than this (in r) pass the depth on; an even sampling has
  * about 20 within it. */
@@ -104,10 +105,51 @@
 /* A band is read this much (in r, one spacing) taller than its deepest
  * sample reaches. */
 #define DP_FLAT_BAND_END_R 1.0
+/* While sinking, a point settles on its face once this many times deeper
+ * than the face's depth: past the far face of a plate that thick, where an
+ * opposing front would have stopped it had the far face been scanned. */
+#define DP_FLAT_PAST 2.0f
 /* ... and only around an evidence point with at least this fraction of the
  * samples within DP_FLAT_RIM_R facing its way (a flat face, not a rounded
  * part whose far side is turned a right angle away). */
 #define DP_FLAT_FACE_FRACTION 0.5
+
+/* The samples' fixed part of the face depths, kept across the iterations of
+ * sinking: their neighbour links, search tree and edge bands (geometry
+ * alone), with the face depth that last reached each sample. */
+typedef struct dp_flat {
+	size_t n;
+	int k;                        /* links per sample */
+	const float *p[3], *normal[3];
+	dp_kdtree tree;
+	int *idx;                     /* n x k nearest samples, ascending */
+	float *d2;
+	float *half;                  /* the band's half height beside each sample, or INFINITY */
+	float *face_half;             /* its median over the facing samples around, or INFINITY */
+	float *cap;                   /* the face depth that reached each sample, or INFINITY */
+	uint32_t *origin;             /* the sample it came from */
+	unsigned char *done;
+	struct entry *heap;
+	uint32_t *sidx;               /* search buffers, DP_FLAT_BAND_COUNT per range */
+	float *sd2, *svalue;
+	float min_cos, sin_a, band_end, rim2, band2, link2, below_min;
+} dp_flat;
+
+/* Builds the context for n samples p with unit normals (the arrays are kept
+ * by reference: they must outlive it and not change); angle_deg > 0. Errors: DP_ERR_NOMEM,
+ * and the neighbour search's. On failure nothing needs freeing. */
+dp_status dp_flat_init(dp_flat *f, int threads, size_t n, const float *const p[3], const float *const normal[3],
+		       double r, double angle_deg, dp_error *err);
+/* The face depth reaching every sample from the evidence in settled_by
+ * (DP_SETTLE_FRONT and DP_SETTLE_MEDIAL samples, at their depths |q - p|) and
+ * the edge bands; from the edge bands alone if settled_by is NULL. Runs on up
+ * to `threads` threads; the result does not depend on it. */
+void dp_flat_update(dp_flat *f, int threads, float *const q[3], const unsigned char *settled_by);
+/* Whether sample i's inner point lies deeper than `past` times the face
+ * depth that reached it at the last update; if so it moves up to that depth
+ * along its line. */
+int dp_flat_too_deep(const dp_flat *f, float *const q[3], size_t i, float past);
+void dp_flat_free(dp_flat *f);
 
 /*
  * Caps the depth |q_i - p_i| of every sample with settled_by[i] ==
