@@ -73,7 +73,17 @@
  * normals 2.63% -> 2.56%, 95th percentile accuracy 0.0146 -> 0.0152
  * diagonals, the bunnies within their seeds' spread. The back rest's
  * completed rear is still a cloud: its points hold no input, and their
- * normals follow their dpoints, which lean 60 degrees on average. */
+ * normals follow their dpoints, which lean 60 degrees on average.
+ *
+ * The bands also act while sinking (dpoints.h, step 1e): a point twice as
+ * deep as the band depth that reaches it has passed a plate's far face and
+ * settles at that depth, so a one-sided plate's middle no longer waits for
+ * slow-down to creep in from the rim (which a slow-down margin of 1 r never
+ * did on the chair's back rest). The bands and links are geometry, so the
+ * context (dp_flat) builds them once per run; the rim's evidence joins only
+ * after the loop, as it is no measure of a plate while fronts are still
+ * meeting (a closed cylinder's side would stop at the depth of its crease
+ * with the end cap). */
 #ifndef DP_STAGES_FLAT_H
 #define DP_STAGES_FLAT_H
 
