@@ -95,6 +95,13 @@ static buffers part_buffers(const dp_flat *f, int part, size_t count)
 	return (buffers){f->sidx + off, f->sd2 + off, f->svalue + off};
 }
 
+/* The samples within DP_FLAT_RIM_R of sample i, at most DP_FLAT_RIM_COUNT. */
+static size_t rim(const dp_flat *f, size_t i, buffers b)
+{
+	return dp_kdtree_nearest_within(&f->tree, f->p[0][i], f->p[1][i], f->p[2][i], f->rim2, DP_FLAT_RIM_COUNT, b.idx,
+					b.d2);
+}
+
 /* The edge band beside each sample (flat.h): half the height it shows below
  * the sample's plane plus DP_FLAT_BAND_END_R, or INFINITY where there is
  * none. Geometry alone, so the context computes it once. Each range writes
@@ -109,8 +116,7 @@ static void band_range(void *arg, size_t begin, size_t end, int part)
 		/* only a flat face has an edge band: around a rounded part's point
 		 * the samples facing its way are few, and the ones turned away by
 		 * a right angle are no plate's edge */
-		size_t found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->rim2, DP_FLAT_RIM_COUNT,
-							b.idx, b.d2);
+		size_t found = rim(f, i, b);
 		size_t facing = 0;
 		for (size_t j = 0; j < found; j++)
 			facing += cosine(normal, i, b.idx[j]) >= f->min_cos;
@@ -144,12 +150,10 @@ static void band_range(void *arg, size_t begin, size_t end, int part)
 static void band_median_range(void *arg, size_t begin, size_t end, int part)
 {
 	dp_flat *f = arg;
-	const float *const *p = f->p;
 	buffers b = part_buffers(f, part, DP_FLAT_BAND_COUNT);
 	for (size_t i = begin; i < end; i++) {
 		f->face_half[i] = INFINITY;
-		size_t found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->rim2, DP_FLAT_RIM_COUNT,
-							b.idx, b.d2);
+		size_t found = rim(f, i, b);
 		size_t m = 0;
 		for (size_t j = 0; j < found; j++) {
 			uint32_t o = b.idx[j];
@@ -185,8 +189,7 @@ static void origin_range(void *arg, size_t begin, size_t end, int part)
 		float cap = isfinite(f->half[i]) ? f->face_half[i] : INFINITY;
 		if (job->settled_by && evidence(job->settled_by[i])) {
 			cap = f->face_half[i];
-			size_t found = dp_kdtree_nearest_within(&f->tree, p[0][i], p[1][i], p[2][i], f->rim2,
-								DP_FLAT_RIM_COUNT, b.idx, b.d2);
+			size_t found = rim(f, i, b);
 			size_t m = 0;
 			for (size_t j = 0; j < found; j++) {
 				uint32_t o = b.idx[j];

@@ -503,11 +503,10 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		size_t n_slow = 0, n_width = 0;
 		for (size_t i = 0; i < st->n; i++) {
 			unsigned char why = st->settled[i];
-			if ((why == DP_SETTLE_SLOW || why == DP_SETTLE_WIDTH || why == DP_SETTLE_FLAT) &&
-			    dp_flat_too_deep(&st->flat, st->q, i, 1.0f) && why != DP_SETTLE_FLAT) {
-				st->settled[i] = DP_SETTLE_FLAT;
+			int blind = why == DP_SETTLE_SLOW || why == DP_SETTLE_WIDTH || why == DP_SETTLE_FLAT;
+			if (blind && dp_flat_too_deep(&st->flat, st->q, i, 1.0f) && why != DP_SETTLE_FLAT) {
+				why = st->settled[i] = DP_SETTLE_FLAT;
 				stats->settled_flat++;
-				continue;
 			}
 			n_slow += why == DP_SETTLE_SLOW;
 			n_width += why == DP_SETTLE_WIDTH;
