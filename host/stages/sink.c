@@ -104,6 +104,7 @@ static dp_status check_surface(const dp_cloud *s, dp_error *err)
 enum {
 	SUNK_X, SUNK_Y, SUNK_Z,     /* inner points after the step, caller order */
 	MOVE,                       /* step taken last iteration (settled: 0), caller order */
+	DEPTH0,                     /* depth before this iteration's step, caller order */
 	MOVE_S, STOP, STOP_S, C_DEPTH,
 	SURF_X_Q, SURF_Y_Q, SURF_Z_Q, NORM_X_Q, NORM_Y_Q, NORM_Z_Q,
 	NORM_X_S, NORM_Y_S, NORM_Z_S, SUNK_X_S, SUNK_Y_S, SUNK_Z_S,
@@ -372,6 +373,30 @@ static dp_status steps(dp_context *ctx, sink_state *st, int first_iteration, flo
 	return DP_OK;
 }
 
+/* A sinking point that got less than this fraction of the slow-down step
+ * deeper in one iteration has stopped (sinking step 2, stalls): the smoothing
+ * holds it against the settled neighbours it has passed. 1 (the slow-down's
+ * own threshold) stopped the one-view bunny's body short of its middle. */
+#define DP_SINK_STALL 0.2f
+
+static void mark_depths(sink_state *st)
+{
+	for (size_t j = 0; j < st->nlist; j++)
+		st->a[DEPTH0][st->list[j]] = depth_of(st, st->list[j]);
+}
+
+static void settle_stalled(sink_state *st, float least, size_t *settled)
+{
+	*settled = 0;
+	for (size_t j = 0; j < st->nlist; j++) {
+		uint32_t i = st->list[j];
+		if (depth_of(st, i) - st->a[DEPTH0][i] < least) {
+			st->settled[i] = DP_SETTLE_SLOW;
+			(*settled)++;
+		}
+	}
+}
+
 /* Sinks the listed points by their steps, smooths them over P_i and records
  * every point's move. */
 static dp_status sink_and_smooth(dp_context *ctx, sink_state *st, float radius, float inv_r2, float phi_scale,
@@ -470,7 +495,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		collect_unsettled(st);
 		if (st->nlist == 0)
 			break;
-		size_t by_front, by_medial = 0, by_width = 0, by_flat = 0, by_slow;
+		size_t by_front, by_medial = 0, by_width = 0, by_flat = 0, by_slow, by_stall = 0;
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)(p->wall_min_r * r), (float)cos_w,
 				     meet_shift, &by_front, err);
 		if (rc == DP_OK) {
@@ -479,10 +504,14 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			settle_by_flat(ctx->threads, st, &by_flat);
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, slow_margin, &by_slow, err);
 		}
-		if (rc == DP_OK)
+		if (rc == DP_OK) {
+			mark_depths(st);
 			rc = sink_and_smooth(ctx, st, static_radius, inv_r2, phi_scale, err);
+		}
 		if (rc != DP_OK)
 			return rc;
+		settle_stalled(st, DP_SINK_STALL * slow, &by_stall);
+		by_slow += by_stall;
 		stats->iterations = it;
 		stats->settled_front += by_front;
 		stats->settled_medial += by_medial;
