@@ -7,6 +7,7 @@
 
 #include <pthread.h>
 #include <signal.h>
+#include <stdatomic.h>
 #include <stdlib.h>
 #include <string.h>
 #include <sys/wait.h>
@@ -133,7 +134,7 @@ static void test_pool_busy(void **state)
 #define FORK_N 4096
 #define FORK_WAIT_MS 10000
 
-static volatile int forking_done;
+static atomic_int forking_done;
 
 static void *loop_until_done(void *arg)
 {
@@ -143,11 +144,10 @@ static void *loop_until_done(void *arg)
 	return NULL;
 }
 
+/* in the child: no allocation, which a fork may have caught mid-way */
 static int child_loops(void)
 {
-	unsigned short *count = calloc(FORK_N, sizeof *count);
-	if (!count)
-		return 2;
+	static unsigned short count[FORK_N];
 	for (int round = 0; round < 3; round++)
 		dp_parallel_for(4, FORK_N, 16, count_range, count);
 	for (size_t i = 0; i < FORK_N; i++)
