@@ -67,6 +67,13 @@ static entry heap_pop(entry *h, size_t *top)
 	return first;
 }
 
+/* The upper median of v[0..m), m > 0; sorts v. */
+static float median(float *v, size_t m)
+{
+	qsort(v, m, sizeof *v, by_value);
+	return v[m / 2];
+}
+
 static int evidence(unsigned char why)
 {
 	return why == DP_SETTLE_FRONT || why == DP_SETTLE_MEDIAL;
@@ -160,10 +167,8 @@ static void band_median_range(void *arg, size_t begin, size_t end, int part)
 			if (isfinite(f->half[o]) && cosine(f->normal, i, o) >= f->min_cos)
 				b.value[m++] = f->half[o];
 		}
-		if (m == 0)
-			continue;
-		qsort(b.value, m, sizeof *b.value, by_value);
-		f->face_half[i] = b.value[m / 2];
+		if (m > 0)
+			f->face_half[i] = median(b.value, m);
 	}
 }
 
@@ -196,10 +201,8 @@ static void origin_range(void *arg, size_t begin, size_t end, int part)
 				if (evidence(job->settled_by[o]) && cosine(f->normal, i, o) >= f->min_cos)
 					b.value[m++] = depth(p, job->q, o);
 			}
-			if (m > 0) { /* 0 only if the search missed the point itself: NaN, checked before */
-				qsort(b.value, m, sizeof *b.value, by_value);
-				cap = fminf(cap, b.value[m / 2]);
-			}
+			if (m > 0) /* 0 only if the search missed the point itself: NaN, checked before */
+				cap = fminf(cap, median(b.value, m));
 		}
 		f->cap[i] = cap;
 		f->origin[i] = isfinite(cap) ? (uint32_t)i : NO_ORIGIN;

@@ -387,14 +387,12 @@ static void mark_depths(sink_state *st)
 
 static void settle_stalled(sink_state *st, float least, size_t *settled)
 {
-	*settled = 0;
 	for (size_t j = 0; j < st->nlist; j++) {
 		uint32_t i = st->list[j];
-		if (depth_of(st, i) - st->a[DEPTH0][i] < least) {
+		if (depth_of(st, i) - st->a[DEPTH0][i] < least)
 			st->settled[i] = DP_SETTLE_SLOW;
-			(*settled)++;
-		}
 	}
+	*settled = drop_settled(st);
 }
 
 /* Sinks the listed points by their steps, smooths them over P_i and records
