@@ -15,12 +15,19 @@
  * another thread of the program, or from inside a range) starts threads of
  * its own as before, so the pool never waits on itself. Which thread runs a
  * range does not change what the range computes: range k always covers the
- * same items and is passed part k. */
+ * same items and is passed part k.
+ *
+ * A fork copies the pool's state but none of its workers. Caught at the
+ * wrong instant it also copied the lock held by a worker, and the child's
+ * first pooled loop waited for ever (1 child in 1000 forked while another
+ * thread ran loops, on a loaded machine; once in CI). So the fork handlers
+ * below take the lock across the fork, and the child starts from an idle,
+ * empty pool with fresh synchronisation objects. */
 typedef struct pool {
 	pthread_mutex_t lock; /* guards every field below */
 	pthread_cond_t posted, finished;
 	int workers;          /* started, never stopped */
-	pid_t owner;          /* the process that started them: a forked child has none */
+	int busy;             /* a loop is running on the pool */
 	unsigned long loop;   /* counts the loops posted, so a worker sees each once */
 	dp_range_fn fn;
 	void *arg;
@@ -29,8 +36,35 @@ typedef struct pool {
 } pool;
 
 static pool the_pool = {.lock = PTHREAD_MUTEX_INITIALIZER, .posted = PTHREAD_COND_INITIALIZER, .finished = PTHREAD_COND_INITIALIZER};
-/* held for a whole loop by whichever thread runs one on the pool */
-static pthread_mutex_t pool_busy = PTHREAD_MUTEX_INITIALIZER;
+static pthread_once_t fork_handlers_once = PTHREAD_ONCE_INIT;
+
+static void before_fork(void)
+{
+	pthread_mutex_lock(&the_pool.lock);
+}
+
+static void after_fork_parent(void)
+{
+	pthread_mutex_unlock(&the_pool.lock);
+}
+
+/* The child is one thread: a loop the parent was running belongs to threads
+ * it does not have, and waiters the condition variables remember are gone. */
+static void after_fork_child(void)
+{
+	pool *p = &the_pool;
+	pthread_mutex_init(&p->lock, NULL);
+	pthread_cond_init(&p->posted, NULL);
+	pthread_cond_init(&p->finished, NULL);
+	p->workers = 0;
+	p->busy = 0;
+	p->parts = p->next = p->unfinished = 0;
+}
+
+static void register_fork_handlers(void)
+{
+	pthread_atfork(before_fork, after_fork_parent, after_fork_child);
+}
 
 int dp_parallel_parts(int threads, size_t n, size_t min_items)
 {
@@ -88,11 +122,6 @@ static void *worker(void *arg)
  * calling thread runs whatever ranges no worker claims. */
 static void grow(pool *p, int want)
 {
-	pid_t self = getpid();
-	if (p->owner != self) {
-		p->owner = self;
-		p->workers = 0;
-	}
 	while (p->workers < want) {
 		pthread_t tid;
 		pthread_attr_t attr;
@@ -147,12 +176,15 @@ int dp_parallel_for(int threads, size_t n, size_t min_items, dp_range_fn fn, voi
 		fn(arg, 0, n, 0);
 		return 1;
 	}
-	if (pthread_mutex_trylock(&pool_busy) != 0) {
+	pthread_once(&fork_handlers_once, register_fork_handlers);
+	pool *p = &the_pool;
+	pthread_mutex_lock(&p->lock);
+	if (p->busy) {
+		pthread_mutex_unlock(&p->lock);
 		run_unpooled(parts, n, fn, arg);
 		return parts;
 	}
-	pool *p = &the_pool;
-	pthread_mutex_lock(&p->lock);
+	p->busy = 1;
 	grow(p, parts - 1);
 	p->fn = fn;
 	p->arg = arg;
@@ -171,8 +203,8 @@ int dp_parallel_for(int threads, size_t n, size_t min_items, dp_range_fn fn, voi
 	run_claimed(p);
 	while (p->unfinished > 0)
 		pthread_cond_wait(&p->finished, &p->lock);
+	p->busy = 0;
 	pthread_mutex_unlock(&p->lock);
-	pthread_mutex_unlock(&pool_busy);
 	return parts;
 }
 
