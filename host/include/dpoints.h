@@ -218,8 +218,10 @@ DP_API void dp_context_set_progress(dp_context *ctx, dp_progress_fn fn, void *us
  * the OpenCL kernels are the device's business. 0 or less means the CPUs the
  * process may run on (its affinity: a Slurm job's or a container's share; the
  * default), 1 one thread; at most 64 are used. Results do not depend on it.
- * Each loop starts its threads and joins them before it returns, so nothing
- * runs between calls. Not thread-safe with a call running on ctx.
+ * The threads are a pool shared by the whole process, started on first use
+ * and kept, asleep between loops; every loop has finished when the call
+ * returns. A process may fork at any time, from any thread: the child starts
+ * with an idle pool of its own. Not thread-safe with a call running on ctx.
  */
 DP_API void dp_context_set_threads(dp_context *ctx, int threads);
 /* The thread count later calls use (never 0: the resolved default). */
