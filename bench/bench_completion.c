@@ -4,6 +4,7 @@
  * backend only: this measures quality, bench_stages compares the backends.
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
+ *                    [--wlop-seed S]
  *                    [--coarse N] [--surface-iters N]
  *
  * Cases (all by default):
@@ -56,6 +57,7 @@ typedef struct options {
 	int surface_iters; /* --surface-iters: the surface stage's cap, or -1 for the default */
 	const char *save; /* folder for each case's input, surface and skeleton PLYs, or NULL */
 	uint64_t seed;
+	uint64_t wlop_seed; /* --wlop-seed: WLOP's initial sample choice, or 0 for the library's default */
 } options;
 
 static const options *opts;
@@ -278,6 +280,8 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 		p.wlop.samples = samples;
 	if (opts->coarse)
 		p.refine.coarse_samples = opts->coarse;
+	if (opts->wlop_seed)
+		p.wlop.seed = opts->wlop_seed;
 	dp_result res = {0};
 	dp_cloud guessed = {0};
 	dp_eval_result ei, es, eg;
@@ -518,6 +522,7 @@ static int parse(int argc, char **argv, options *o)
 	o->coarse = 0;
 	o->surface_iters = -1;
 	o->seed = 7;
+	o->wlop_seed = 0;
 	for (int i = 1; i + 1 < argc; i += 2) {
 		if (!strcmp(argv[i], "--case"))
 			o->cases = argv[i + 1];
@@ -539,6 +544,8 @@ static int parse(int argc, char **argv, options *o)
 			o->save = argv[i + 1];
 		else if (!strcmp(argv[i], "--seed"))
 			o->seed = strtoull(argv[i + 1], NULL, 10);
+		else if (!strcmp(argv[i], "--wlop-seed"))
+			o->wlop_seed = strtoull(argv[i + 1], NULL, 10);
 		else
 			return -1;
 	}
@@ -562,7 +569,7 @@ int main(int argc, char **argv)
 	opts = &o;
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue,lamppost] "
-				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N]\n");
+				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N] [--wlop-seed S]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;
