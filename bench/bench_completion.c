@@ -4,8 +4,7 @@
  * backend only: this measures quality, bench_stages compares the backends.
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
- *                    [--wlop-seed S]
- *                    [--coarse N] [--surface-iters N]
+ *                    [--coarse N] [--surface-iters N] [--wlop-seed S]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -254,6 +253,8 @@ static void bench_params(dp_params *p)
 	dp_params_default(p);
 	if (opts->surface_iters >= 0)
 		p->surface.max_iters = opts->surface_iters;
+	if (opts->wlop_seed)
+		p->wlop.seed = opts->wlop_seed;
 }
 
 /* Reads `file` under the data folder into `in`: 1, or 0 after a "skipped"
@@ -280,8 +281,6 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 		p.wlop.samples = samples;
 	if (opts->coarse)
 		p.refine.coarse_samples = opts->coarse;
-	if (opts->wlop_seed)
-		p.wlop.seed = opts->wlop_seed;
 	dp_result res = {0};
 	dp_cloud guessed = {0};
 	dp_eval_result ei, es, eg;
@@ -289,7 +288,7 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	if (dp_consolidate(ctx, in, &p, &res, &err) != DP_OK || dp_eval(mesh, in, NULL, &ei, &err) != DP_OK ||
 	    dp_eval(mesh, &res.surface, NULL, &es, &err) != DP_OK || unsupported(&res, &guessed, &err) != DP_OK)
 		goto out;
-	printf("{\"bench\":\"completion\",\"case\":\"%s\",\"raw\":%zu", name, in->n);
+	printf("{\"bench\":\"completion\",\"case\":\"%s\",\"wlop_seed\":%llu,\"raw\":%zu", name, (unsigned long long)p.wlop.seed, in->n);
 	print_stages(&res);
 	print_eval("input", &ei);
 	print_eval("surface", &es);
@@ -441,7 +440,7 @@ static int run_statue(dp_context *ctx)
 	dp_result res = {0};
 	int rc = -1;
 	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK) {
-		printf("{\"bench\":\"completion\",\"case\":\"statue\",\"raw\":%zu", in.n);
+		printf("{\"bench\":\"completion\",\"case\":\"statue\",\"wlop_seed\":%llu,\"raw\":%zu", (unsigned long long)p.wlop.seed, in.n);
 		print_stages(&res);
 		printf("}\n");
 		rc = 0;
@@ -493,7 +492,7 @@ static int run_lamppost(dp_context *ctx)
 	dp_knn knn = {0};
 	int rc = -1;
 	if (dp_consolidate(ctx, &in, &p, &res, &err) == DP_OK && dp_knn_build(&knn, in.n, in.x, in.y, in.z, &err) == DP_OK) {
-		printf("{\"bench\":\"completion\",\"case\":\"lamppost\",\"raw\":%zu", in.n);
+		printf("{\"bench\":\"completion\",\"case\":\"lamppost\",\"wlop_seed\":%llu,\"raw\":%zu", (unsigned long long)p.wlop.seed, in.n);
 		print_stages(&res);
 		printf(",\"sink_settled\":{\"front\":%zu,\"medial\":%zu,\"width\":%zu,\"slow\":%zu,\"flat\":%zu,"
 		       "\"unsettled\":%zu}",
