@@ -174,6 +174,43 @@ __kernel void surface_covariance(const uint n, __global const float *px, __globa
 	c[5] = czz / cnt - mz * mz;
 }
 
+#define SURFACE_ENDS_BODY(T, LOAD, k, live, s)                                                 \
+	{                                                                                      \
+		T dx = LOAD(gx, k) - ax, dy = LOAD(gy, k) - ay, dz = LOAD(gz, k) - az;        \
+		T d2 = dx * dx + dy * dy + dz * dz;                                            \
+		T w = select((T)0.0f, exp(-fmin(d2, rad2) * inv_s * inv_s),                    \
+			     (live) & (d2 < rad2) &                                            \
+				     (qnx * LOAD(gnx, k) + qny * LOAD(gny, k) + qnz * LOAD(gnz, k) > side_cos)); \
+		sw##s += w;                                                                    \
+		sx##s += w * (LOAD(gsx, k) - ax);                                              \
+		sy##s += w * (LOAD(gsy, k) - ay);                                              \
+		sz##s += w * (LOAD(gsz, k) - az);                                              \
+	}
+
+__kernel void surface_ends(const uint n, __global const float *px, __global const float *py,
+			   __global const float *pz, __global const float *nx, __global const float *ny,
+			   __global const float *nz, GRID_ARGS, __global const float *gnx, __global const float *gny,
+			   __global const float *gnz, __global const float *gsx, __global const float *gsy,
+			   __global const float *gsz, const float radius, const float sigma, const float side_cos,
+			   __global float *wsum, __global float *ox, __global float *oy, __global float *oz)
+{
+	uint i = get_global_id(0);
+	if (i >= n)
+		return;
+	float ax = px[i], ay = py[i], az = pz[i];
+	float qnx = nx[i], qny = ny[i], qnz = nz[i];
+	float rad2 = radius * radius, inv_s = 1.0f / sigma;
+	LANE_T sw_v = 0.0f, sx_v = 0.0f, sy_v = 0.0f, sz_v = 0.0f;
+	float sw_s = 0.0f, sx_s = 0.0f, sy_s = 0.0f, sz_s = 0.0f;
+	GRID_PAIRS(ax, ay, az, SURFACE_ENDS_BODY)
+	float sw = LANE_SUM(sw_v) + sw_s;
+	float sx = LANE_SUM(sx_v) + sx_s, sy = LANE_SUM(sy_v) + sy_s, sz = LANE_SUM(sz_v) + sz_s;
+	wsum[i] = sw;
+	ox[i] = sw > 0.0f ? sx / sw : 0.0f;
+	oy[i] = sw > 0.0f ? sy / sw : 0.0f;
+	oz[i] = sw > 0.0f ? sz / sw : 0.0f;
+}
+
 /* Each lane keeps its first smallest line distance (strictly smaller
  * replaces), so the smallest (distance, index) over the lanes and the tail is
  * the first in grid order on ties, as the sequential scan. */

@@ -250,6 +250,50 @@ static void test_covariance(void **state)
 	free(cov[1]);
 }
 
+/* The skeleton points the neighbours' inner ends hang on: random positions
+ * around each grid point, so that the weighted mean differs from the
+ * neighbours' own centroid. */
+static void test_ends(void **state)
+{
+	fixture *f = *state;
+	dp_rng rng;
+	dp_rng_seed(&rng, 23);
+	float *gs[3], *out[2][4];
+	for (int c = 0; c < 3; c++)
+		gs[c] = alloc_floats(f->n);
+	for (size_t k = 0; k < f->n; k++) {
+		const float *g[3] = {f->grid.x, f->grid.y, f->grid.z};
+		for (int c = 0; c < 3; c++)
+			gs[c][k] = g[c][k] + (float)(2.0 * dp_rng_uniform(&rng) - 1.0) * RADIUS;
+	}
+	for (int b = 0; b < 2; b++) {
+		for (int o = 0; o < 4; o++)
+			out[b][o] = alloc_floats(f->m);
+		dp_surface_ends_args a = {
+			.surface = &f->grid, .gnx = f->gnx, .gny = f->gny, .gnz = f->gnz, .nq = f->m, .px = f->qx,
+			.py = f->qy, .pz = f->qz, .nx = f->nx, .ny = f->ny, .nz = f->nz, .gsx = gs[0], .gsy = gs[1],
+			.gsz = gs[2], .radius = RADIUS, .sigma = 2.0f * SPACING, .side_cos = 0.0f, .wsum = out[b][0],
+			.ox = out[b][1], .oy = out[b][2], .oz = out[b][3],
+		};
+		dp_error err = {0};
+		if (dp_op_surface_ends(b ? tk_cl_context() : tk_ref_context(), &a, &err) != DP_OK)
+			fail_msg("%s", err.message);
+	}
+	tk_assert_close(out[1][0], out[0][0], f->m, 1e-4f, 1e-5f, "surface_ends wsum");
+	tk_assert_close(out[1][1], out[0][1], f->m, 1e-4f, 1e-4f * RADIUS, "surface_ends ox");
+	tk_assert_close(out[1][2], out[0][2], f->m, 1e-4f, 1e-4f * RADIUS, "surface_ends oy");
+	tk_assert_close(out[1][3], out[0][3], f->m, 1e-4f, 1e-4f * RADIUS, "surface_ends oz");
+	size_t weighed = 0;
+	for (size_t i = 0; i < f->m; i++)
+		weighed += out[0][0][i] > 0.0f;
+	assert_true(weighed > f->m / 2);
+	for (int c = 0; c < 3; c++)
+		free(gs[c]);
+	for (int b = 0; b < 2; b++)
+		for (int o = 0; o < 4; o++)
+			free(out[b][o]);
+}
+
 static void test_reattach(void **state)
 {
 	fixture *f = *state;
@@ -333,6 +377,7 @@ int main(void)
 		cmocka_unit_test(test_data),
 		cmocka_unit_test(test_neighbour),
 		cmocka_unit_test(test_covariance),
+		cmocka_unit_test(test_ends),
 		cmocka_unit_test(test_reattach),
 		cmocka_unit_test(test_empty_grid),
 	};

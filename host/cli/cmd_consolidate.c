@@ -190,6 +190,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--no-reattach", CLI_FLAG, &no_reattach, "keep inner ends where the skeleton put them", NULL, NULL},
 		{"--reattach-radius", CLI_DOUBLE, &p->surface.reattach_radius_r, "re-attachment search radius, in r",
 		 NULL, NULL},
+		{"--end-smoothing", CLI_DOUBLE, &p->surface.end_smoothing_r,
+		 "width, in r, over which inner ends are moved under their surface points across the normal, from the "
+		 "skeleton points their neighbours hang on (0 = off)", NULL, NULL},
 		{"--surface-iters", CLI_INT, &p->surface.max_iters, "surface iteration cap", NULL, NULL},
 		{"--surface-window", CLI_INT, &p->surface.window,
 		 "surface stops when over this many iterations the mean move, the mean spacing and its variation stalled",

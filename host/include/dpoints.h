@@ -654,6 +654,11 @@ DP_API dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r,
  *     q_i ← the skeleton point within reattach_radius_r r of q_i, behind p_i,
  *     nearest to the line through p_i along ñ_i (the PCA normal of step 5 of
  *     the previous iteration; n_i itself is m_i where there is no input);
+ * 3b. lateral smoothing (when end_smoothing_r > 0): q_i ← h_i + T_i(a_i - h_i),
+ *     h_i the skeleton point of step 3, a_i the mean of the neighbours' h over
+ *     P_i (weights exp(-(d/end_smoothing_r r)²), from step 1): the inner end
+ *     moves across n_i, under p_i, where the skeleton is clumped, never
+ *     along n_i;
  *  4. data and prior step at the slid p_i, with m_i, ℓ_i of the slid p_i and
  *     the re-attached q_i (the data term acts along the normal
  *     only: as Eq. 6 is printed it pins the boundaries of missing regions, and a
@@ -717,6 +722,9 @@ typedef struct dp_surface_params {
 	double escape_margin_r;   /* inside test with `balls` (dp_surface): a point with input support Σθ < 1
 	                             deeper than this, in r, in a ball whose centre it faces moves out to the
 	                             ball's sphere; 0 = off; default 1 */
+	double end_smoothing_r;   /* step 3b above: width σ, in r, of the weights exp(-(d/σ r)²) over P_i with
+	                             which the skeleton points of the neighbours' inner ends are averaged; 0 = off
+	                             (q_i is the skeleton point itself); default 2 (surface.c has the numbers) */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);
@@ -769,8 +777,10 @@ typedef struct dp_balls {
  * (overwritten, not freed first; caller frees with dp_cloud_free; zeroed on
  * error) and, when `eta` is not NULL, η of every final p_i (input support; 1
  * where no input is in reach) into the caller's n floats. On success the
- * positions of `skeleton` are updated in place to the re-attached inner ends
- * (unchanged without `reattach`) and its normals, when present, receive the
+ * positions of `skeleton` are updated in place to the skeleton points the
+ * inner ends hang on after re-attachment (unchanged without `reattach`; the
+ * stage's own inner end lies across n_i from there, step 3b) and its
+ * normals, when present, receive the
  * final surface normals (an inner point carries its surface point's normal);
  * on error `skeleton` is left as it was. r > 0 is the surface
  * spacing. `params` NULL means defaults; `stats` may be NULL. Reports

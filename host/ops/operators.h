@@ -257,6 +257,23 @@ static inline int dp_sink_partner(float dist2, float far_d2, float dot, float be
 	F(RADIUS, float, radius, 1) F(PARAM, float, r, 1) F(PARAM, float, side_cos, 1)             \
 	F(OUT, float, cov, 6)
 
+/* Where the skeleton under each query lies, for the lateral smoothing of
+ * inner ends (dpoints.h, end_smoothing_r). For each query p_i with unit
+ * normal n_i, over the surface points p_k of the grid with d = |p_i - p_k| <
+ * radius and n_i·gn_k > side_cos (same-sided as above; p_i's own grid point
+ * included), with w(d) = exp(-(d/sigma)²) and gs_k the skeleton point that
+ * neighbour k's inner end hangs on (grid order):
+ *   wsum[i] = Σ w(d)
+ *   o[i]    = Σ w(d) (gs_k - p_i) / Σ w(d), or 0 when wsum is 0: the mean of
+ *             those skeleton points, as an offset from p_i. */
+#define DP_OP_SURFACE_ENDS(F)                                                                     \
+	F(POS, float, px, 1) F(POS, float, py, 1) F(POS, float, pz, 1) F(QUERY, float, nx, 1)     \
+	F(QUERY, float, ny, 1) F(QUERY, float, nz, 1) F(GRID, dp_grid, surface, 1)                \
+	F(ATTR, float, gnx, 1) F(ATTR, float, gny, 1) F(ATTR, float, gnz, 1)                      \
+	F(ATTR, float, gsx, 1) F(ATTR, float, gsy, 1) F(ATTR, float, gsz, 1)                      \
+	F(RADIUS, float, radius, 1) F(PARAM, float, sigma, 1) F(PARAM, float, side_cos, 1)         \
+	F(OUT, float, wsum, 1) F(OUT, float, ox, 1) F(OUT, float, oy, 1) F(OUT, float, oz, 1)
+
 /* Re-attachment of inner ends. For each query i (inner end q_i, surface point
  * p_i, unit normal n_i), over the skeleton points s_k of the grid with
  * |s_k - q_i| < radius that lie behind p_i (depth t = n_i·(p_i - s_k) > 0):
@@ -299,6 +316,7 @@ static inline int dp_sink_partner(float dist2, float far_d2, float dot, float be
 	OP(surface_data, surface_data, DP_OP_SURFACE_DATA)               \
 	OP(surface_neighbour, surface_neighbour, DP_OP_SURFACE_NEIGHBOUR) \
 	OP(surface_covariance, surface_covariance, DP_OP_SURFACE_COVARIANCE) \
+	OP(surface_ends, surface_ends, DP_OP_SURFACE_ENDS)                 \
 	OP(surface_reattach, surface_reattach, DP_OP_SURFACE_REATTACH)     \
 	OP(peak, peak_pairs, DP_OP_PEAK)
 

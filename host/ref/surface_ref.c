@@ -144,6 +144,36 @@ void dp_ref_surface_covariance(const dp_surface_covariance_args *a)
 	}
 }
 
+void dp_ref_surface_ends(const dp_surface_ends_args *a)
+{
+	const dp_grid *g = a->surface;
+	float rad2 = a->radius * a->radius, inv_s = 1.0f / a->sigma;
+	uint32_t beg[9], end[9];
+	for (size_t i = 0; i < a->nq; i++) {
+		float px = a->px[i], py = a->py[i], pz = a->pz[i];
+		float sw = 0.0f, sx = 0.0f, sy = 0.0f, sz = 0.0f;
+		dp_grid_rows(g, px, py, pz, beg, end);
+		for (int row = 0; row < 9; row++)
+			for (uint32_t k = beg[row]; k < end[row]; k++) {
+				float dx = g->x[k] - px, dy = g->y[k] - py, dz = g->z[k] - pz;
+				float d2 = dx * dx + dy * dy + dz * dz;
+				if (d2 >= rad2)
+					continue;
+				if (!(a->nx[i] * a->gnx[k] + a->ny[i] * a->gny[k] + a->nz[i] * a->gnz[k] > a->side_cos))
+					continue;
+				float w = expf(-d2 * inv_s * inv_s);
+				sw += w;
+				sx += w * (a->gsx[k] - px);
+				sy += w * (a->gsy[k] - py);
+				sz += w * (a->gsz[k] - pz);
+			}
+		a->wsum[i] = sw;
+		a->ox[i] = sw > 0.0f ? sx / sw : 0.0f;
+		a->oy[i] = sw > 0.0f ? sy / sw : 0.0f;
+		a->oz[i] = sw > 0.0f ? sz / sw : 0.0f;
+	}
+}
+
 void dp_ref_surface_reattach(const dp_surface_reattach_args *a)
 {
 	const dp_grid *g = a->skeleton;

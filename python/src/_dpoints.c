@@ -56,6 +56,7 @@ static const param_field PARAMS[] = {
 	F(surface, tangent_floor_r, P_DOUBLE), F(surface, normal_radius_r, P_DOUBLE),
 	F(surface, slide_reach_r, P_DOUBLE), F(surface, escape_margin_r, P_DOUBLE),
 	F(surface, reattach, P_INT),      F(surface, reattach_radius_r, P_DOUBLE),
+	F(surface, end_smoothing_r, P_DOUBLE),
 	F(surface, max_iters, P_INT),     F(surface, same_side, P_INT),
 	F(surface, orient_by_dpoint, P_INT), F(surface, window, P_INT),
 	F(surface, min_drop, P_DOUBLE),   F(surface, min_growth, P_DOUBLE),
