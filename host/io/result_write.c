@@ -92,6 +92,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_num(w, "normal_radius_r", p->normal_radius_r);
 	dp_json_bool(w, "reattach", p->reattach);
 	dp_json_num(w, "reattach_radius_r", p->reattach_radius_r);
+	dp_json_num(w, "end_smoothing_r", p->end_smoothing_r);
 	dp_json_int(w, "max_iters", p->max_iters);
 	dp_json_int(w, "window", p->window);
 	dp_json_num(w, "min_drop", p->min_drop);
