@@ -694,6 +694,7 @@ static void test_end_smoothing(void **state)
 	plate(0.0, &inside_off, &leaning_off);
 	plate(2.0, &inside_on, &leaning_on);
 	assert_true(leaning_off > 0.05);
+	assert_true(inside_off > 0.015);
 	assert_true(inside_on < 0.015);
 	assert_true(leaning_on < 0.03);
 }
@@ -746,6 +747,9 @@ static void test_errors(void **state)
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	bad.end_smoothing_r = NAN;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	bad.end_smoothing_r = INFINITY;
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
 	dp_balls nan_ball = {2, sc.samples.x, sc.samples.y, sc.samples.z, radius};

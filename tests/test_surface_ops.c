@@ -363,6 +363,16 @@ static void test_empty_grid(void **state)
 			fail_msg("%s", err.message);
 		for (size_t i = 0; i < f->m; i++)
 			assert_true(eta[i] == 1.0f && sa[i] == 0.0f && o[0][i] == 0.0f);
+		dp_surface_ends_args e = {
+			.surface = &empty, .gnx = f->gnx, .gny = f->gny, .gnz = f->gnz, .nq = f->m, .px = f->qx,
+			.py = f->qy, .pz = f->qz, .nx = f->nx, .ny = f->ny, .nz = f->nz, .gsx = f->gnx, .gsy = f->gny,
+			.gsz = f->gnz, .radius = RADIUS, .sigma = SPACING, .side_cos = -2.0f, .wsum = eta, .ox = o[0],
+			.oy = o[1], .oz = o[2],
+		};
+		if (dp_op_surface_ends(ctx, &e, &err) != DP_OK)
+			fail_msg("%s", err.message);
+		for (size_t i = 0; i < f->m; i++)
+			assert_true(eta[i] == 0.0f && o[0][i] == 0.0f && o[1][i] == 0.0f && o[2][i] == 0.0f);
 		free(eta);
 		free(sa);
 		for (int c = 0; c < 3; c++)

@@ -187,7 +187,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--prior", CLI_CHOICE, &prior, "surface shape prior (Eq. 8 or Eq. 9)", "volume|minimal", NULL},
 		{"--normal-radius", CLI_DOUBLE, &p->surface.normal_radius_r, "surface PCA normal radius, in r", NULL,
 		 NULL},
-		{"--no-reattach", CLI_FLAG, &no_reattach, "keep inner ends where the skeleton put them", NULL, NULL},
+		{"--no-reattach", CLI_FLAG, &no_reattach,
+		 "keep inner ends on the skeleton points the skeleton stage gave them (end smoothing still moves them "
+		 "across the normal unless --end-smoothing 0)", NULL, NULL},
 		{"--reattach-radius", CLI_DOUBLE, &p->surface.reattach_radius_r, "re-attachment search radius, in r",
 		 NULL, NULL},
 		{"--end-smoothing", CLI_DOUBLE, &p->surface.end_smoothing_r,

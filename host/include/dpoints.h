@@ -651,16 +651,19 @@ DP_API dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r,
  *     β̂ = θ / max(|T_i(p_i - p')|/r, tangent_floor_r)⁵ (p' ≠ p_i);
  *  2. slide: p_i += mu_hat R_i;
  *  3. re-attachment (when `reattach`; the paper's "refine the connection"):
- *     q_i ← the skeleton point within reattach_radius_r r of q_i, behind p_i,
+ *     h_i ← the skeleton point within reattach_radius_r r of q_i, behind p_i,
  *     nearest to the line through p_i along ñ_i (the PCA normal of step 5 of
  *     the previous iteration; n_i itself is m_i where there is no input);
+ *     h_i is the skeleton point the inner end hangs on (at the start, its row
+ *     of `skeleton`), and q_i = h_i unless step 3b moves it;
  * 3b. lateral smoothing (when end_smoothing_r > 0): q_i ← h_i + T_i(a_i - h_i),
- *     h_i the skeleton point of step 3, a_i the mean of the neighbours' h over
- *     P_i (weights exp(-(d/end_smoothing_r r)²), from step 1): the inner end
- *     moves across n_i, under p_i, where the skeleton is clumped, never
- *     along n_i;
+ *     a_i the mean of the h of the surface points on p_i's side (as in P_i)
+ *     within min(3 end_smoothing_r, sigma_p) r of the slid p_i, weights
+ *     exp(-(d/end_smoothing_r r)²): the inner end moves across n_i, under p_i,
+ *     where the skeleton is clumped, never along n_i (also without
+ *     `reattach`, about the h_i the stage started with);
  *  4. data and prior step at the slid p_i, with m_i, ℓ_i of the slid p_i and
- *     the re-attached q_i (the data term acts along the normal
+ *     the q_i of steps 3 and 3b (the data term acts along the normal
  *     only: as Eq. 6 is printed it pins the boundaries of missing regions, and a
  *     one-view torus scan stayed at 51% coverage instead of 98%):
  *     p_i += [η Σα D_i + g_i] / (γ + η Σα), D_i = n_i n_iᵀ(c̄_i - p_i)
@@ -777,9 +780,10 @@ typedef struct dp_balls {
  * (overwritten, not freed first; caller frees with dp_cloud_free; zeroed on
  * error) and, when `eta` is not NULL, η of every final p_i (input support; 1
  * where no input is in reach) into the caller's n floats. On success the
- * positions of `skeleton` are updated in place to the skeleton points the
- * inner ends hang on after re-attachment (unchanged without `reattach`; the
- * stage's own inner end lies across n_i from there, step 3b) and its
+ * positions of `skeleton` are updated in place to the skeleton points h_i
+ * the inner ends hang on (moved by re-attachment, and by the inside test
+ * with `balls`; the stage's own inner end lies across n_i from there, step
+ * 3b) and its
  * normals, when present, receive the
  * final surface normals (an inner point carries its surface point's normal);
  * on error `skeleton` is left as it was. r > 0 is the surface

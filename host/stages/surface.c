@@ -3,9 +3,10 @@
  * neighbour sum is an operator of host/ops/operators.h.
  *
  * One iteration: (1) dpoint lengths, data and neighbourhood passes at p;
- * (2) slide p += μ̂R; (3) re-attach q at the slid p; (4) data and prior step at
- * the slid p with the re-attached q; (5) re-bucket, PCA normals, normal
- * update. The paper adds the terms of one fixed-point update together; doing
+ * (2) slide p += μ̂R; (3) re-attach at the slid p: the skeleton point h the
+ * inner end hangs on; (3b) move the inner end q across the normal to under
+ * the point (smooth_ends); (4) data and prior step at the slid p with that
+ * q; (5) re-bucket, PCA normals, normal update. The paper adds the terms of one fixed-point update together; doing
  * the tangential slide first has the same fixed points and avoids the drift
  * described at slide(). Re-attaching before the prior step matters as much:
  * re-attached after it, a point that slid along a skeletal curve gets a
@@ -57,9 +58,9 @@
 /* Balls within this (in r) of lying inside another are left out of the
  * inside test (balls.h). */
 #define BALL_SLACK_R 0.5
-/* The smoothing of inner ends sums over 3 widths (weights down to e^-9), or
- * the surface grid's cell where that is shorter (e^-6.25 at the default 2 r
- * and σp = 5). */
+/* The smoothing of inner ends sums over 3 widths (weights down to e^-9), but
+ * no further than the surface grid's cell, since its scan reaches only the
+ * adjacent cells (e^-6.25 at the default 2 r and σp = 5). */
 #define END_REACH 3.0f
 
 void dp_surface_params_default(dp_surface_params *p)
@@ -421,8 +422,12 @@ static void smooth_ends(work *w, size_t n)
 {
 	float **a = w->a;
 	for (size_t i = 0; i < n; i++) {
-		if (!(a[A_EW][i] > 0.0f))
-			continue; /* no neighbour on its side, not even itself: q_i = h_i */
+		if (!(a[A_EW][i] > 0.0f)) {
+			/* no neighbour on its side within reach, not even itself */
+			for (int c = 0; c < 3; c++)
+				a[A_QX + c][i] = a[A_HX + c][i];
+			continue;
+		}
 		float d[3], dn = 0.0f;
 		for (int c = 0; c < 3; c++) {
 			d[c] = a[A_PX + c][i] + a[A_AX + c][i] - a[A_HX + c][i];
