@@ -6,12 +6,13 @@
  * (2) slide p += μ̂R; (3) re-attach at the slid p: the skeleton point h the
  * inner end hangs on; (3b) move the inner end q across the normal to under
  * the point (smooth_ends); (4) data and prior step at the slid p with that
- * q; (5) re-bucket, PCA normals, normal update. The paper adds the terms of one fixed-point update together; doing
- * the tangential slide first has the same fixed points and avoids the drift
- * described at slide(). Re-attaching before the prior step matters as much:
- * re-attached after it, a point that slid along a skeletal curve gets a
- * shorter dpoint that the length averaging then keeps (measured on a
- * one-sided torus: the unsupported half sank 0.2 ρ towards the core).
+ * q; (5) re-bucket, PCA normals, normal update. The paper adds the terms of
+ * one fixed-point update together; doing the tangential slide first has the
+ * same fixed points and avoids the drift described at slide(). Re-attaching
+ * before the prior step matters as much: re-attached after it, a point that
+ * slid along a skeletal curve gets a shorter dpoint that the length averaging
+ * then keeps (measured on a one-sided torus: the unsupported half sank 0.2 ρ
+ * towards the core).
  *
  * The minimal-volume prior (Eq. 9). Taken literally — the gradient of
  * ½ Σ γ_k L_k² through the point's own length, a pull of γ L_i/W_i straight
