@@ -49,7 +49,7 @@ typedef struct run {
 	double unit; /* R, T or rho */
 } run;
 
-static void run_pipeline(const char *name, input_kind kind, run *r)
+static void run_pipeline_with(const char *name, input_kind kind, const dp_params *params, run *r)
 {
 	dp_error err = {0};
 	memset(r, 0, sizeof *r);
@@ -72,8 +72,7 @@ static void run_pipeline(const char *name, input_kind kind, run *r)
 		sp.seed = SEED;
 		assert_int_equal(dp_scan(&r->mesh, &sp, &r->input, NULL, &err), DP_OK);
 	}
-	dp_params p;
-	dp_params_default(&p);
+	dp_params p = *params;
 	p.wlop.samples = SAMPLES;
 	dp_status st = dp_consolidate(tk_cl_context(), &r->input, &p, &r->res, &err);
 	if (st != DP_OK)
@@ -83,6 +82,13 @@ static void run_pipeline(const char *name, input_kind kind, run *r)
 	       name, r->input.n, r->res.wlop.n, r->res.r, r->unit / r->res.r, r->res.wlop_stats.iterations,
 	       r->res.sink_stats.iterations, r->res.skeleton_stats.iterations, r->res.surface_stats.iterations,
 	       r->res.seconds_total);
+}
+
+static void run_pipeline(const char *name, input_kind kind, run *r)
+{
+	dp_params p;
+	dp_params_default(&p);
+	run_pipeline_with(name, kind, &p, r);
 }
 
 static void run_free(run *r)
@@ -125,6 +131,31 @@ static void test_sphere(void **state)
 	expect_below("surface distance to the sphere / R", fit(&r, &r.res.surface, CURVE_CELL).surface_mean / r.unit,
 		     0.01);
 	run_free(&r);
+}
+
+/* A complete scan has nothing to fill: the surface stage comes to rest
+ * (dpoints.h, min_move_r) well before the mean move and the spacing's
+ * variation stop falling by a few per cent per window, and as accurately. */
+static void test_sphere_rest(void **state)
+{
+	(void)state;
+	dp_params p;
+	dp_params_default(&p);
+	run rest, on;
+	run_pipeline_with("sphere", COMPLETE, &p, &rest);
+	p.surface.min_move_r = 0.0;
+	run_pipeline_with("sphere", COMPLETE, &p, &on);
+	double d_rest = fit(&rest, &rest.res.surface, CURVE_CELL).surface_mean / rest.unit;
+	double d_on = fit(&on, &on.res.surface, CURVE_CELL).surface_mean / on.unit;
+	printf("  surface iterations at rest %d (converged %d), without the rest test %d (converged %d); "
+	       "distance to the sphere / R %.5f and %.5f\n",
+	       rest.res.surface_stats.iterations, rest.res.surface_stats.converged, on.res.surface_stats.iterations,
+	       on.res.surface_stats.converged, d_rest, d_on);
+	assert_int_equal(rest.res.surface_stats.converged, 1);
+	assert_true(rest.res.surface_stats.iterations + p.surface.window < on.res.surface_stats.iterations);
+	expect_below("surface distance to the sphere / R at rest", d_rest, fmin(0.01, d_on + 0.001));
+	run_free(&rest);
+	run_free(&on);
 }
 
 static void test_cylinder(void **state)
@@ -198,7 +229,7 @@ static void test_torus_one_view(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
-		cmocka_unit_test(test_sphere),	cmocka_unit_test(test_cylinder),
+		cmocka_unit_test(test_sphere),	cmocka_unit_test(test_sphere_rest), cmocka_unit_test(test_cylinder),
 		cmocka_unit_test(test_slab),	cmocka_unit_test(test_torus),
 		cmocka_unit_test(test_sphere_one_view), cmocka_unit_test(test_torus_one_view),
 	};

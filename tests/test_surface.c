@@ -752,6 +752,13 @@ static void test_errors(void **state)
 	bad.end_smoothing_r = INFINITY;
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
+	dp_surface_params_default(&bad);
+	bad.min_move_r = -0.1;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	bad.min_move_r = NAN;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
 	dp_balls nan_ball = {2, sc.samples.x, sc.samples.y, sc.samples.z, radius};
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, &nan_ball, sc.r, NULL, &out, NULL, NULL,
 				    &err),

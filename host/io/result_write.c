@@ -97,6 +97,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_int(w, "window", p->window);
 	dp_json_num(w, "min_drop", p->min_drop);
 	dp_json_num(w, "min_growth", p->min_growth);
+	dp_json_num(w, "min_move_r", p->min_move_r);
 	dp_json_bool(w, "same_side", p->same_side);
 	dp_json_bool(w, "orient_by_dpoint", p->orient_by_dpoint);
 	dp_json_end_object(w);
