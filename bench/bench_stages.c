@@ -686,7 +686,7 @@ static dp_status run_surface(dp_context *ctx, const dp_cloud *c, const dp_cloud 
 	dp_surface_params p;
 	dp_surface_params_default(&p);
 	if (cap) {
-		/* The stop test compares two windows: never before 2 windows. */
+		/* A window longer than the run: neither stop test fires, exactly cap. */
 		p.max_iters = cap;
 		p.window = cap + 1;
 	}

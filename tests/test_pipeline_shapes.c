@@ -141,21 +141,23 @@ static void test_sphere_rest(void **state)
 	(void)state;
 	dp_params p;
 	dp_params_default(&p);
-	run rest, on;
+	run rest, creep;
 	run_pipeline_with("sphere", COMPLETE, &p, &rest);
 	p.surface.min_move_r = 0.0;
-	run_pipeline_with("sphere", COMPLETE, &p, &on);
+	run_pipeline_with("sphere", COMPLETE, &p, &creep);
 	double d_rest = fit(&rest, &rest.res.surface, CURVE_CELL).surface_mean / rest.unit;
-	double d_on = fit(&on, &on.res.surface, CURVE_CELL).surface_mean / on.unit;
+	double d_creep = fit(&creep, &creep.res.surface, CURVE_CELL).surface_mean / creep.unit;
 	printf("  surface iterations at rest %d (converged %d), without the rest test %d (converged %d); "
 	       "distance to the sphere / R %.5f and %.5f\n",
-	       rest.res.surface_stats.iterations, rest.res.surface_stats.converged, on.res.surface_stats.iterations,
-	       on.res.surface_stats.converged, d_rest, d_on);
+	       rest.res.surface_stats.iterations, rest.res.surface_stats.converged, creep.res.surface_stats.iterations,
+	       creep.res.surface_stats.converged, d_rest, d_creep);
 	assert_int_equal(rest.res.surface_stats.converged, 1);
-	assert_true(rest.res.surface_stats.iterations + p.surface.window < on.res.surface_stats.iterations);
-	expect_below("surface distance to the sphere / R at rest", d_rest, fmin(0.01, d_on + 0.001));
+	/* only the rest test can stop within two windows */
+	assert_true(rest.res.surface_stats.iterations < 2 * p.surface.window);
+	assert_true(rest.res.surface_stats.iterations + p.surface.window < creep.res.surface_stats.iterations);
+	expect_below("surface distance to the sphere / R at rest", d_rest, fmin(0.01, d_creep + 0.001));
 	run_free(&rest);
-	run_free(&on);
+	run_free(&creep);
 }
 
 static void test_cylinder(void **state)

@@ -759,6 +759,9 @@ static void test_errors(void **state)
 	bad.min_move_r = NAN;
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
 			 DP_ERR_ARG);
+	bad.min_move_r = INFINITY;
+	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, NULL, sc.r, &bad, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
 	dp_balls nan_ball = {2, sc.samples.x, sc.samples.y, sc.samples.z, radius};
 	assert_int_equal(dp_surface(ctx, &sc.input, &sc.samples, &sc.skeleton, &nan_ball, sc.r, NULL, &out, NULL, NULL,
 				    &err),

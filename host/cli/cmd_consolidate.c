@@ -204,8 +204,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--surface-min-growth", CLI_DOUBLE, &p->surface.min_growth,
 		 "required relative growth of the mean spacing, or fall of its variation", NULL, NULL},
 		{"--surface-min-move", CLI_DOUBLE, &p->surface.min_move_r,
-		 "surface also stops when over the window at most one point in 1000 moved more than this per iteration, "
-		 "in r (0 = off)", NULL, NULL},
+		 "surface also stops when in each of the last --surface-window iterations at most one point in 1000 moved "
+		 "more than this, in r (0 = off)", NULL, NULL},
 		{"--tangent-floor", CLI_DOUBLE, &p->surface.tangent_floor_r,
 		 "smallest tangential distance in the repulsion weight, in r", NULL, NULL},
 		{"--slide-reach", CLI_DOUBLE, &p->surface.slide_reach_r,

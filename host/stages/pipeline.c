@@ -135,7 +135,8 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 {
 	dp_surface_params relax = params->surface;
 	relax.max_iters = params->refine.level_iters;
-	/* a fixed number of iterations: the stop test compares two windows */
+	/* a fixed number of iterations: with the window as long as the run,
+	 * neither stop test can fire before its last iteration */
 	relax.window = params->refine.level_iters;
 	dp_cloud out = {0};
 	for (int l = 1; l < levels; l++) {
