@@ -687,12 +687,12 @@ DP_API dp_status dp_skeleton(dp_context *ctx, const dp_cloud *anchors, double r,
  * at 3000 deep points, stopping on the spacing alone ended at 0.83 coverage,
  * with this at 0.91). It also stops when, in each of the last `window`
  * iterations, at most one point in 1000 (none below 1000 points) moved more
- * than min_move_r or escaped: the set is at rest. A complete, clean scan has nothing to fill, yet its mean move
- * and its spacing's variation kept falling by a few per cent per window for
- * ever (the knot of the data folder, 3200 points: mean move 0.0085 r at
- * iteration 30, 0.0017 r at the cap of 200, variation 0.050 -> 0.035, and a
- * warning that the stage stopped at its cap). Otherwise it stops after
- * max_iters (stats->converged = 0).
+ * than min_move_r or escaped: the set is at rest. A complete, clean scan has
+ * nothing to fill, yet its mean move and its spacing's variation kept
+ * falling by a few per cent per window for ever (the knot of the data
+ * folder, 3200 points: mean move 0.0085 r at iteration 30, 0.0017 r at the
+ * cap of 200, variation 0.050 -> 0.035, and a warning that the stage stopped
+ * at its cap). Otherwise it stops after max_iters (stats->converged = 0).
  */
 typedef enum dp_surface_prior {
 	DP_SURFACE_PRIOR_VOLUME = 0,  /* volume preserving, Eq. 8 (default) */

@@ -133,7 +133,7 @@ typedef struct work {
 	uint32_t *of;           /* skeleton merge: first point of each merged position */
 	double *move, *spacing; /* per iteration (in r), for the stopping test */
 	double *cv;             /* per iteration: variation of the NN spacing (std / mean) */
-	size_t *moving;         /* per iteration: points that moved more than min_move_r */
+	size_t *moving;         /* per iteration: points that moved more than min_move_r, or escaped */
 	dp_grid input, surface, skeleton;
 } work;
 
@@ -576,12 +576,12 @@ static size_t escape(work *w, size_t n, double r, const dp_surface_params *p)
 }
 
 /* Done when in each of the last `window` iterations at most one point in
- * STILL_PER points moved more than min_move_r: the set has come to rest
- * (dpoints.h has the measurement). Otherwise compares the last `window`
- * iterations with the `window` before them (means, as single iterations
- * jitter by a few per cent): done when the mean move has not fallen by
- * min_drop, the spacing (the area per point is ∝ its square) has not grown
- * by min_growth and its variation has not fallen by min_growth. */
+ * STILL_PER points moved more than min_move_r or escaped: the set has come
+ * to rest (dpoints.h has the measurement). Otherwise compares the last
+ * `window` iterations with the `window` before them (means, as single
+ * iterations jitter by a few per cent): done when the mean move has not
+ * fallen by min_drop, the spacing (the area per point is ∝ its square) has
+ * not grown by min_growth and its variation has not fallen by min_growth. */
 static int stop_test(const work *w, size_t n, int t, const dp_surface_params *p)
 {
 	int k = p->window;
