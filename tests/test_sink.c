@@ -921,6 +921,13 @@ static void test_bad_input(void **state)
 	p.flat_angle_deg = NAN;
 	expect_error(&c, r, &p, DP_ERR_ARG, "NaN flat-face angle");
 	dp_sink_params_default(&p);
+	p.medial_fraction = -0.1;
+	expect_error(&c, r, &p, DP_ERR_ARG, "negative medial fraction");
+	p.medial_fraction = 1.0;
+	expect_error(&c, r, &p, DP_ERR_ARG, "medial fraction 1");
+	p.medial_fraction = NAN;
+	expect_error(&c, r, &p, DP_ERR_ARG, "NaN medial fraction");
+	dp_sink_params_default(&p);
 	/* inf (the library's form of the paper's rule) is the same as a huge
 	 * margin, on the device too */
 	dp_cloud paper_rule, huge;
