@@ -234,12 +234,13 @@ static void test_one_view(void **state)
  * curving away (median 56 degrees from the sinking direction, normals 52
  * degrees apart), and the gap it measures shifts by about depth x the
  * sinking line's direction error, so a fixed margin stopped the points it
- * settled at a median 7.8 r (10.1 r with the fraction). Measured: coverage
- * 0.802 -> 0.851, anchors' mean depth 5.57 -> 5.82 r; over WLOP seeds 1-6
- * coverage 0.797 -> 0.837. */
+ * settled at a median 14.6 r (19.1 r with the fraction; the coarse level's
+ * r). Measured: coverage 0.802 -> 0.843, anchors' mean depth 10.3 -> 10.9 r;
+ * over WLOP seeds 1-6 coverage 0.797 -> 0.831. */
 #define DEPTH_COVERAGE_GAIN 0.02
 
-static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, double margin_r, double fraction)
+static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, double margin_r, double fraction,
+				double *mean_depth_r)
 {
 	dp_params params;
 	dp_params_default(&params);
@@ -257,8 +258,9 @@ static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, doub
 		       dz = res.anchors.z[i] - res.wlop.z[i];
 		depth += sqrt(dx * dx + dy * dy + dz * dz);
 	}
+	*mean_depth_r = depth / (double)res.anchors.n / res.level[0].r;
 	printf("medial margin %.2f r + %.2f x depth: %zu deep points, anchors' mean depth %.2f r, coverage %.4f\n",
-	       margin_r, fraction, res.surface.n, depth / (double)res.anchors.n / res.r, e.coverage);
+	       margin_r, fraction, res.surface.n, *mean_depth_r, e.coverage);
 	dp_result_free(&res);
 	return e.coverage;
 }
@@ -273,8 +275,10 @@ static void test_one_view_depth(void **state)
 	read_mesh(&d, &mesh);
 	dp_sink_params defaults;
 	dp_sink_params_default(&defaults);
-	double grown = one_view_coverage(&mesh, &view, defaults.medial_margin_r, defaults.medial_fraction);
-	double fixed = one_view_coverage(&mesh, &view, 1.0, 0.0);
+	double grown_depth, fixed_depth;
+	double grown = one_view_coverage(&mesh, &view, defaults.medial_margin_r, defaults.medial_fraction, &grown_depth);
+	double fixed = one_view_coverage(&mesh, &view, 1.0, 0.0, &fixed_depth);
+	assert_true(grown_depth > fixed_depth);
 	assert_true(grown >= fixed + DEPTH_COVERAGE_GAIN);
 	dp_cloud_free(&mesh);
 	dp_cloud_free(&view);

@@ -56,6 +56,7 @@ static void json_sink_params(dp_json_writer *w, const dp_sink_params *p)
 	dp_json_int(w, "max_iters", p->max_iters);
 	dp_json_num(w, "medial_margin_r", p->medial_margin_r);
 	dp_json_num(w, "medial_fraction", p->medial_fraction);
+	dp_json_num(w, "medial_fraction_cap_r", p->medial_fraction_cap_r);
 	dp_json_num(w, "meet_shift_r", p->meet_shift_r);
 	dp_json_num(w, "slow_margin_r", p->slow_margin_r);
 	dp_json_num(w, "width_factor", p->width_factor);

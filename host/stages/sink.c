@@ -28,6 +28,7 @@ void dp_sink_params_default(dp_sink_params *p)
 	p->max_iters = 200;
 	p->medial_margin_r = 0.25;
 	p->medial_fraction = 0.15;
+	p->medial_fraction_cap_r = 3.0;
 	p->meet_shift_r = 2.0;
 	p->slow_margin_r = 1.0;
 	p->width_factor = 2.0;
@@ -58,6 +59,9 @@ static dp_status check_params(const dp_sink_params *p, double r, dp_error *err)
 			       p->medial_margin_r);
 	if (!(p->medial_fraction >= 0.0 && p->medial_fraction < 1.0))
 		return dp_fail(err, DP_ERR_ARG, "sink: medial fraction %g is not in [0, 1)", p->medial_fraction);
+	if (!(p->medial_fraction_cap_r >= 0.0 && isfinite(p->medial_fraction_cap_r)))
+		return dp_fail(err, DP_ERR_ARG, "sink: medial fraction cap %g r is not a finite number >= 0",
+			       p->medial_fraction_cap_r);
 	if (!(p->meet_shift_r >= 0.0 && isfinite(p->meet_shift_r) && isfinite((float)(p->meet_shift_r * r))))
 		return dp_fail(err, DP_ERR_ARG, "sink: meeting shift %g r is not a finite number >= 0 (0 turns it off)",
 			       p->meet_shift_r);
@@ -241,7 +245,8 @@ static size_t drop_settled(sink_state *st)
 typedef struct medial_job {
 	sink_state *st;
 	float margin;   /* the margin's fixed part, in coordinates */
-	float fraction; /* and its part in proportion to the point's depth */
+	float fraction; /* and its part in proportion to the point's depth, */
+	float cap;      /* which is at most this, in coordinates */
 } medial_job;
 
 /* Marks listed points whose ball holds a surface point: list entries are
@@ -254,8 +259,8 @@ static void medial_range(void *arg, size_t begin, size_t end, int part)
 	for (size_t j = begin; j < end; j++) {
 		uint32_t i = st->list[j];
 		float d = depth_of(st, i);
-		/* only points deeper than the margin can be past the axis by more */
-		float limit = d * (1.0f - job->fraction) - job->margin;
+		/* only points deeper than their whole margin can be past the axis by more */
+		float limit = d - fminf(d * job->fraction, job->cap) - job->margin;
 		if (limit > 0.0f &&
 		    dp_kdtree_any_within(&st->surface_tree, st->q[0][i], st->q[1][i], st->q[2][i], limit * limit))
 			st->settled[i] = DP_SETTLE_MEDIAL;
@@ -263,19 +268,22 @@ static void medial_range(void *arg, size_t begin, size_t end, int part)
 }
 
 /* The medial test: an inner point nearer to some surface point than to its
- * own by more than `margin` has passed the medial axis (the centre of its
- * inscribed ball), so it settles. Opposing fronts cannot stop points whose
+ * own by more than `margin` plus `fraction` of its depth (that part at most
+ * `cap`) has passed the medial axis (the centre of its inscribed ball), so it
+ * settles; dpoints.h (1b) has why the margin grows with depth. Opposing fronts cannot stop points whose
  * far side was never scanned (a one-sided scan of a pole or a wing): there
  * nothing settles, the steps never shrink, and measured on such scans the
  * deep points ended ~100 r long. The scanned sides of the same part still
  * bound the ball. Distances are exact, on the host: the ball of radius
- * depth - margin around the inner point must hold no surface point. */
-static void settle_past_medial(int threads, sink_state *st, float margin, float fraction, size_t *settled)
+ * depth less the whole margin around the inner point must hold no surface
+ * point. */
+static void settle_past_medial(int threads, sink_state *st, float margin, float fraction, float cap,
+			       size_t *settled)
 {
 	*settled = 0;
 	if (!(margin > 0.0f))
 		return;
-	medial_job job = {st, margin, fraction};
+	medial_job job = {st, margin, fraction, cap};
 	dp_parallel_for(threads, st->nlist, SETTLE_MIN_ITEMS, medial_range, &job);
 	*settled = drop_settled(st);
 }
@@ -501,7 +509,8 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 		rc = settle_by_front(ctx, st, settle_radius, far * far, (float)(p->wall_min_r * r), (float)cos_w,
 				     meet_shift, &by_front, err);
 		if (rc == DP_OK) {
-			settle_past_medial(ctx->threads, st, medial_margin, (float)p->medial_fraction, &by_medial);
+			settle_past_medial(ctx->threads, st, medial_margin, (float)p->medial_fraction,
+					   (float)(p->medial_fraction_cap_r * r), &by_medial);
 			settle_by_width(ctx->threads, st, &by_width);
 			settle_by_flat(ctx->threads, st, &by_flat);
 			rc = steps(ctx, st, it == 1, first, slow, static_radius, slow_margin, &by_slow, err);

@@ -45,6 +45,7 @@ static const param_field PARAMS[] = {
 	F(sink, meet_shift_r, P_DOUBLE),   F(sink, slow_margin_r, P_DOUBLE),
 	F(sink, width_factor, P_DOUBLE),  F(sink, flat_angle_deg, P_DOUBLE),
 	F(sink, wall_min_r, P_DOUBLE),     F(sink, medial_fraction, P_DOUBLE),
+	F(sink, medial_fraction_cap_r, P_DOUBLE),
 	F(skeleton, sigma_q, P_DOUBLE),   F(skeleton, eps, P_DOUBLE),
 	F(skeleton, mu, P_DOUBLE),        F(skeleton, cutoff, P_DOUBLE),
 	F(skeleton, min_axis_weight, P_DOUBLE), F(skeleton, across_only, P_INT),
