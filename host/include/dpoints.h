@@ -399,8 +399,8 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *  1b. medial test (not in the paper): q_i settles when some surface point
  *     is nearer to it than p_i by more than medial_margin_r plus
  *     medial_fraction × its depth |q_i - p_i| (that part at most
- *     medial_fraction_cap_r), i.e. q_i has passed the
- *     centre of its inscribed ball. Where the far side was never scanned no
+ *     medial_fraction_cap_r), i.e. q_i has passed the centre of its
+ *     inscribed ball. Where the far side was never scanned no
  *     opposing front exists and nothing else stops the sinking (measured
  *     before this test: one-sided scans of a lamppost and an airplane ended
  *     with every point unsettled and deep points ~100 r long). The margin
@@ -413,11 +413,11 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     medial-settled points at a median 14.6 r (19.1 r at 0.25 r + 0.15 ×
  *     depth). Measured over WLOP seeds 1-6 (1 r + 0 -> 0.25 r + 0.15, cap
  *     3 r): one-view bunny coverage 0.797 -> 0.831, flipped 1.90% -> 1.86%,
- *     Poisson error (seeds 1-3) 0.0153 -> 0.0118; the bench chair flipped 1.70% ->
- *     1.46% (its back rest's top rim, whose crease normals sink it through
- *     the plate, stops sooner: anchors outside the chair 58 / 49 / 39 -> 40 /
- *     34 / 22 at seeds 1-3); the two-view bunny coverage 0.950 -> 0.951, flipped
- *     0.43% -> 0.42%, but its unseen underside sinks deeper too: 95th
+ *     Poisson error (seeds 1-3) 0.0153 -> 0.0118; the bench chair flipped
+ *     1.70% -> 1.46% (its back rest's top rim, whose crease normals sink it
+ *     through the plate, stops sooner: anchors outside the chair 58 / 49 /
+ *     39 -> 40 / 34 / 22 at seeds 1-3); the two-view bunny coverage 0.950 ->
+ *     0.951, flipped 0.43% -> 0.42%, but its unseen underside sinks deeper too: 95th
  *     percentile 0.0389 -> 0.0423, Poisson error 0.00354 -> 0.00386. The
  *     cap: points whose normals came out inwards sink out of the body, and
  *     in empty space their gap to the nearest sample stays put while a
