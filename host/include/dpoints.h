@@ -360,12 +360,16 @@ DP_API void dp_normal_params_default(dp_normal_params *p);
  * symmetric k_graph-NN graph with weight 1 - |n_i·n_j| (Hoppe 1992, Prim),
  * propagated in each connected component from the extreme point along ±x, ±y
  * or ±z whose normal is best aligned with that direction (turned to point along
- * it); then each component is flipped as a whole if its area-weighted flux
- * Σ a_i n_i·(p_i - centroid) is negative (3 × the volume for a closed surface
- * with outward normals, whatever its shape; positive too for an open one-sided
- * scan of a solid, whose centroid lies behind the scanned surface). A flat open
- * sheet is oriented consistently, to one side. With use_viewpoint every normal
- * is turned towards the viewpoint instead.
+ * it); then each component is flipped as a whole when the normals of its
+ * extreme points along 26 directions vote against those directions, or, when
+ * the vote is close to 0, when its area-weighted flux Σ a_i n_i·(p_i -
+ * centroid) is negative (3 × the volume for a closed surface with outward
+ * normals). A component within 10 mean spacings of the largest one is a
+ * fragment of the same surface cut off by a gap: it takes its sign from the
+ * largest across the gap instead, by the propagation's agreement test over
+ * the links to its nearest points there. A flat open sheet is oriented
+ * consistently, to one side. With use_viewpoint every normal is turned
+ * towards the viewpoint instead.
  * params NULL means defaults. Errors: DP_ERR_ARG (NULL cloud, k < 2,
  * k_graph < 1, a non-finite point or viewpoint, coordinates whose squared
  * distances overflow a float), DP_ERR_EMPTY (no points),

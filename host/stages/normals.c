@@ -10,6 +10,12 @@
 #include <math.h>
 #include <stdlib.h>
 
+/* How far (in mean nearest-neighbour spacings) a fragment cut off from the
+ * body by a gap still takes its orientation from the body
+ * (dp_orient_outward): the one-view bunny's foot top lies 4.6 under its
+ * belly. */
+#define LINK_RANGE 10.0
+
 void dp_normal_params_default(dp_normal_params *p)
 {
 	p->k = 16;
@@ -114,11 +120,14 @@ static dp_status normals_of_distinct(dp_cloud *cloud, const dp_normal_params *pa
 		orient_to_viewpoint(cloud, params->viewpoint);
 	} else {
 		size_t ncomp;
+		double spacing = 0.0;
+		for (size_t i = 0; stride > 0 && i < n; i++)
+			spacing += sqrt((double)d2[i * (size_t)stride]) / (double)n;
 		st = dp_orient_mst(n, cloud->x, cloud->y, cloud->z, cloud->nx, cloud->ny, cloud->nz, nbr, stride, kg,
 				   comp, &ncomp, err);
 		if (st == DP_OK)
 			st = dp_orient_outward(n, cloud->x, cloud->y, cloud->z, cloud->nx, cloud->ny, cloud->nz, area,
-					       comp, ncomp, NULL, err);
+					       comp, ncomp, LINK_RANGE * spacing, NULL, err);
 	}
 done:
 	dp_knn_free(&knn);

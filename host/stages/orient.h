@@ -2,8 +2,9 @@
  * second half of dp_estimate_normals: a minimum spanning tree over the
  * symmetric kNN graph with Hoppe's (1992) weight 1 - |n_i·n_j|, propagated
  * from a seed of known direction in every connected component, then a global
- * outward check per component. Internal; split out of normals.c so the two
- * steps can be tested on their own. Reentrant. */
+ * outward check per component (a fragment near the body: across the gap).
+ * Internal; split out of normals.c so the two steps can be tested on their
+ * own. Reentrant. */
 #ifndef DP_STAGES_ORIENT_H
 #define DP_STAGES_ORIENT_H
 
@@ -37,11 +38,17 @@ dp_status dp_orient_mst(size_t n, const float *x, const float *y, const float *z
  * volume for a closed surface with outward normals, c the centroid) decides
  * only when the vote is within VOTE_DECISIVE of 0: on its own it inverted a
  * two-view scan of the demo chair, whose thin parts enclose almost no volume.
- * Returns the number of components flipped in *flipped (may be NULL).
- * Errors: DP_ERR_NOMEM.
+ * Only the largest component (the body) is sure to vote well: a small one
+ * votes by its own curvature, and a concave fragment votes itself inwards.
+ * With link_range > 0, a component that comes within link_range of the
+ * largest takes its sign from it instead: the mirror rule of the propagation
+ * summed over the links from its points to their nearest points of the body
+ * (those at most LINK_SPREAD times its shortest link), when that sum is
+ * decisive. Returns the number of components flipped in *flipped (may be
+ * NULL). Errors: DP_ERR_NOMEM (also from the kd-tree of the links).
  */
 dp_status dp_orient_outward(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny,
-			    float *nz, const double *area, const uint32_t *comp, size_t ncomp, size_t *flipped,
-			    dp_error *err);
+			    float *nz, const double *area, const uint32_t *comp, size_t ncomp, double link_range,
+			    size_t *flipped, dp_error *err);
 
 #endif
