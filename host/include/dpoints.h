@@ -357,7 +357,9 @@ DP_API void dp_normal_params_default(dp_normal_params *p);
  * point (they get the same normal and do not crowd neighbourhoods). Inputs
  * smaller than the neighbourhoods use every other point.
  * Orientation, unless params->use_viewpoint: a minimum spanning tree over the
- * symmetric k_graph-NN graph with weight 1 - |n_i·n_j| (Hoppe 1992, Prim),
+ * symmetric k_graph-NN graph (after Hoppe 1992, Prim; the agreement test
+ * mirrors n_i in the plane bisecting the step, so a step across a thin plate
+ * or a gap between facing faces expects the opposite sign),
  * propagated in each connected component from the extreme point along ±x, ±y
  * or ±z whose normal is best aligned with that direction (turned to point along
  * it); then each component is flipped as a whole when the normals of its
@@ -367,7 +369,8 @@ DP_API void dp_normal_params_default(dp_normal_params *p);
  * normals). A component within 10 mean spacings of the largest one is a
  * fragment of the same surface cut off by a gap: it takes its sign from the
  * largest across the gap instead, by the propagation's agreement test over
- * the links to its nearest points there. A flat open sheet is oriented
+ * the links to its nearest points there, where those links agree clearly
+ * (otherwise its own vote decides). A flat open sheet is oriented
  * consistently, to one side. With use_viewpoint every normal is turned
  * towards the viewpoint instead.
  * params NULL means defaults. Errors: DP_ERR_ARG (NULL cloud, k < 2,

@@ -13,7 +13,10 @@
 /* How far (in mean nearest-neighbour spacings) a fragment cut off from the
  * body by a gap still takes its orientation from the body
  * (dp_orient_outward): the one-view bunny's foot top lies 4.6 under its
- * belly. */
+ * belly. Not tuned beyond that: CGAL's hippo2 has a strip right at 10
+ * (linked), and a separate object nearer than this is linked too, which
+ * the mirrored test gets right where the two face each other across the
+ * gap. */
 #define LINK_RANGE 10.0
 
 void dp_normal_params_default(dp_normal_params *p)
@@ -120,6 +123,7 @@ static dp_status normals_of_distinct(dp_cloud *cloud, const dp_normal_params *pa
 		orient_to_viewpoint(cloud, params->viewpoint);
 	} else {
 		size_t ncomp;
+		/* Eq. 1's mean spacing, from the neighbour lists at hand */
 		double spacing = 0.0;
 		for (size_t i = 0; stride > 0 && i < n; i++)
 			spacing += sqrt((double)d2[i * (size_t)stride]) / (double)n;
