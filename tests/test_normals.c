@@ -339,6 +339,20 @@ static size_t make_fibonacci(sample *s, size_t first, size_t total, double r, do
 	return row - first;
 }
 
+/* The scene of test_fragment_under_body: rows [0, *n) the ball, then the
+ * hollow's *hollow rows. */
+static void make_ball_over_hollow(sample *s, uint64_t seed, size_t *n, size_t *hollow)
+{
+	dp_rng rng;
+	dp_rng_seed(&rng, seed);
+	const double radius = 1.25, zmax = -cos(35.0 * M_PI / 180.0);
+	const size_t body = 3000, shell = (size_t)(body * radius * radius);
+	sample_alloc(s, body + shell);
+	*n = make_fibonacci(s, 0, body, 1.0, 1.0, 1.0, &rng);
+	*hollow = make_fibonacci(s, *n, shell, radius, zmax, -1.0, &rng);
+	s->cloud.n = *n + *hollow;
+}
+
 /* A ball resting over a bowl-shaped hollow in the solid below it, scanned
  * without the solid's sides: the hollow's points are a graph component of
  * their own 0.25 under the ball (about five mean spacings), facing it (the
@@ -350,15 +364,9 @@ static size_t make_fibonacci(sample *s, size_t first, size_t total, double r, do
 static void test_fragment_under_body(void **state)
 {
 	(void)state;
-	dp_rng rng;
-	dp_rng_seed(&rng, 23);
 	sample s = {0};
-	const double radius = 1.25, zmax = -cos(35.0 * M_PI / 180.0);
-	const size_t body = 3000, shell = (size_t)(body * radius * radius);
-	sample_alloc(&s, body + shell);
-	size_t n = make_fibonacci(&s, 0, body, 1.0, 1.0, 1.0, &rng);
-	size_t hollow = make_fibonacci(&s, n, shell, radius, zmax, -1.0, &rng);
-	s.cloud.n = n + hollow;
+	size_t n, hollow;
+	make_ball_over_hollow(&s, 23, &n, &hollow);
 	quality q = estimate_and_measure(&s, NULL, "ball over a hollow");
 	size_t wrong = 0;
 	for (size_t i = n; i < n + hollow; i++)
@@ -378,15 +386,9 @@ static void test_outward_links(void **state)
 {
 	(void)state;
 	for (int wrong = 0; wrong < 2; wrong++) {
-		dp_rng rng;
-		dp_rng_seed(&rng, 29);
 		sample s = {0};
-		const double radius = 1.25, zmax = -cos(35.0 * M_PI / 180.0);
-		const size_t body = 3000, shell = (size_t)(body * radius * radius);
-		sample_alloc(&s, body + shell);
-		size_t n = make_fibonacci(&s, 0, body, 1.0, 1.0, 1.0, &rng);
-		size_t hollow = make_fibonacci(&s, n, shell, radius, zmax, -1.0, &rng);
-		s.cloud.n = n + hollow;
+		size_t n, hollow;
+		make_ball_over_hollow(&s, 29, &n, &hollow);
 		dp_error err = {0};
 		assert_int_equal(dp_cloud_add_normals(&s.cloud, &err), DP_OK);
 		uint32_t *comp = malloc(s.cloud.n * sizeof *comp);
