@@ -273,8 +273,8 @@ static void medial_range(void *arg, size_t begin, size_t end, int part)
  * settles; dpoints.h (1b) has why the margin grows with depth. Opposing
  * fronts cannot stop points whose far side was never scanned (a one-sided
  * scan of a pole or a wing): there nothing settles, the steps never shrink,
- * and measured on such scans the deep points ended ~100 r long. The scanned sides of the same part still
- * bound the ball. Distances are exact, on the host: the ball of radius
+ * and measured on such scans the deep points ended ~100 r long. The scanned
+ * sides of the same part still bound the ball. Distances are exact, on the host: the ball of radius
  * depth less the whole margin around the inner point must hold no surface
  * point. */
 static void settle_past_medial(int threads, sink_state *st, float margin, float fraction, float cap,
