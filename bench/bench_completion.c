@@ -22,6 +22,12 @@
  *   lamppost pcl/lamppost.pcd, a pole a few r thick: how far the surface and
  *            the skeleton lie from the data (median and 90th percentile, in
  *            r), which a thin part turned into a cloud makes many r.
+ * Every case with a ground-truth mesh also prints sink_depth: per way of
+ * settling (dp_settle), how deep the coarse level's anchors sank below their
+ * samples against the true depth, the radius of the largest ball inside the
+ * mesh that touches it at the sample's nearest point (the medial ball there,
+ * which a perfect anchor would centre): medians in r of the depth, the true
+ * depth and their ratio (1: on the medial axis; above: sunk past it).
  * --surface-iters caps the coarse level's surface iterations instead of the
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
@@ -29,6 +35,7 @@
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
 #include "dpoints_tools.h"
+#include "knn/kdtree.h"
 #include "knn/knn.h"
 #include "tools/shapes.h"
 
@@ -247,6 +254,83 @@ static void print_seat(const dp_result *res)
 	free(middle);
 }
 
+/* The true depth of sink_depth: the mesh sampled this densely (about 0.2 r
+ * apart on the bunny and the chair at their default counts), balls grown
+ * from the nearest sample inwards along its triangle's normal in steps of
+ * TRUE_STEP_R r, up to TRUE_MAX_R r, the largest that holds no sample deeper
+ * than TRUE_SLACK_R r inside its sphere (the samples' own spacing and the
+ * mesh's facets would stop it at once). WLOP samples farther than
+ * NEAR_SURFACE_R r from every mesh sample (outliers) are left out. The mesh
+ * must be wound outwards, as the data folder's and the built-in shapes are. */
+#define TRUE_SAMPLES 400000
+#define TRUE_STEP_R 0.25
+#define TRUE_SLACK_R 0.5
+#define TRUE_MAX_R 80.0
+#define NEAR_SURFACE_R 2.0
+#define SETTLE_KINDS 6
+
+static double true_depth(const dp_kdtree *t, const dp_cloud *g, uint32_t k, double r)
+{
+	double last = 0.0;
+	for (double d = TRUE_STEP_R * r; d <= TRUE_MAX_R * r; d += TRUE_STEP_R * r) {
+		float c[3] = {(float)(g->x[k] - d * g->nx[k]), (float)(g->y[k] - d * g->ny[k]),
+			      (float)(g->z[k] - d * g->nz[k])};
+		double free_r = d - TRUE_SLACK_R * r;
+		if (free_r > 0.0 && dp_kdtree_any_within(t, c[0], c[1], c[2], (float)(free_r * free_r)))
+			break;
+		last = d;
+	}
+	return last;
+}
+
+static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
+{
+	static const char *const kind[SETTLE_KINDS] = {"unsettled", "front", "medial", "width", "slow", "flat"};
+	const dp_cloud *w = &res->wlop, *a = &res->anchors;
+	double r = res->level[0].r;
+	dp_error err = {0};
+	dp_cloud g = {0};
+	dp_kdtree t = {0};
+	size_t n = a->n;
+	float *depth = malloc(n * sizeof *depth), *truth = malloc(n * sizeof *truth), *ratio = malloc(n * sizeof *ratio);
+	if (!depth || !truth || !ratio || !res->settled_by ||
+	    dp_mesh_sample(mesh, TRUE_SAMPLES, 0.0, 1, &g, &err) != DP_OK ||
+	    dp_kdtree_build(&t, g.n, g.x, g.y, g.z, &err) != DP_OK)
+		goto out;
+	printf(",\"sink_depth\":{");
+	int first = 1;
+	for (int k = 0; k < SETTLE_KINDS; k++) {
+		size_t m = 0;
+		for (size_t i = 0; i < n; i++) {
+			uint32_t near;
+			float d2;
+			float rr = (float)(NEAR_SURFACE_R * r);
+			if (res->settled_by[i] != k ||
+			    dp_kdtree_nearest_within(&t, w->x[i], w->y[i], w->z[i], rr * rr, 1, &near, &d2) != 1)
+				continue;
+			float v[3] = {w->x[i] - a->x[i], w->y[i] - a->y[i], w->z[i] - a->z[i]};
+			depth[m] = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) / (float)r;
+			truth[m] = (float)(true_depth(&t, &g, near, r) / r);
+			ratio[m] = depth[m] / fmaxf(truth[m], (float)TRUE_STEP_R);
+			m++;
+		}
+		if (m == 0)
+			continue;
+		printf("%s\"%s\":{\"anchors\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f}", first ? "" : ",",
+		       kind[k], m, median(depth, m), median(truth, m), median(ratio, m));
+		first = 0;
+	}
+	printf("}");
+out:
+	if (err.message[0])
+		fprintf(stderr, "bench_completion: sink_depth: %s\n", err.message);
+	dp_kdtree_free(&t);
+	dp_cloud_free(&g);
+	free(depth);
+	free(truth);
+	free(ratio);
+}
+
 /* The library's defaults with this run's --surface-iters. */
 static void bench_params(dp_params *p)
 {
@@ -294,6 +378,7 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	print_eval("surface", &es);
 	if (guessed.n >= 2 && dp_eval(mesh, &guessed, NULL, &eg, &err) == DP_OK)
 		print_eval("surface_unsupported", &eg);
+	print_sink_depth(&res, mesh);
 	if (!strcmp(name, "chair")) {
 		print_legs(&res);
 		print_seat(&res);
