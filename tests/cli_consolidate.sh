@@ -70,11 +70,24 @@ if expect_ok extra consolidate "$tmp/torus.ply" -o "$tmp/extra" --samples $m --s
 		fail "--save-stages --render changed surface.ply"
 	if msg=$(py "$PLY_PY"'
 m = int(sys.argv[2])
-for name in ("wlop.ply", "anchors.ply"):
+for name, extra in (("wlop.ply", []), ("anchors.ply", ["settled"])):
     names, rows, _ = read_ply(sys.argv[1] + "/" + name)
-    if names != ["x", "y", "z", "nx", "ny", "nz"] or len(rows) != m:
+    if names != ["x", "y", "z", "nx", "ny", "nz"] + extra or len(rows) != m:
         sys.exit("%s: %s, %d points" % (name, names, len(rows)))
-print("wlop.ply and anchors.ply: %d points with normals" % m)
+# the ways the anchors settled (dp_settle codes) add up to the counts of report.json
+import json
+sink = json.load(open(sys.argv[1] + "/report.json"))["results"]["sink"]
+ways = ["unsettled", "settled_front", "settled_medial", "settled_width", "settled_slow", "settled_flat"]
+counts = [0] * len(ways)
+for row in rows:
+    code = row[6]
+    if code != int(code) or not 0 <= code < len(ways):
+        sys.exit("anchors.ply: settled = %r is no dp_settle code" % code)
+    counts[int(code)] += 1
+if counts != [sink[w] for w in ways]:
+    sys.exit("anchors.ply: settled counts %s, report.json %s" % (counts, [sink[w] for w in ways]))
+print("wlop.ply and anchors.ply: %d points with normals, the anchors settled as report.json counts (%s)"
+      % (m, " ".join(map(str, counts))))
 ' "$tmp/extra" $m 2>&1); then ok "--save-stages: $msg"; else fail "--save-stages: $msg"; fi
 	pngs=0
 	for f in input skeleton surface; do

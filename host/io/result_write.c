@@ -295,6 +295,27 @@ static dp_status write_stage(report_arg *a, const char *dir, const char *name, c
 	return st;
 }
 
+/* anchors.ply: the anchors with how each stopped sinking, the dp_settle code
+ * as a float property `settled`, which point-cloud viewers offer as a scalar
+ * field to colour by (where a skeleton leaves the body, the way its anchors
+ * settled there says which rule let them through). */
+static dp_status write_anchors(report_arg *a, const char *dir, const dp_result *r, int ascii, dp_error *err)
+{
+	const dp_cloud *c = &r->anchors;
+	if (!r->settled_by || c->n == 0 || !c->nx)
+		return write_stage(a, dir, "anchors.ply", c, ascii, err);
+	float *settled = dp_alloc_array(c->n, sizeof *settled);
+	if (!settled)
+		return dp_fail(err, DP_ERR_NOMEM, "anchors.ply: out of memory for %zu anchors", c->n);
+	for (size_t i = 0; i < c->n; i++)
+		settled[i] = (float)r->settled_by[i];
+	const dp_ply_property props[] = {{"x", c->x},	{"y", c->y},   {"z", c->z},	    {"nx", c->nx},
+					 {"ny", c->ny}, {"nz", c->nz}, {"settled", settled}};
+	dp_status st = write_ply(a, dir, "anchors.ply", c->n, props, 7, NULL, 0, ascii, err);
+	free(settled);
+	return st;
+}
+
 static dp_status write_report(const report_arg *a, const char *dir, dp_error *err)
 {
 	char path[4096];
@@ -401,7 +422,7 @@ dp_status dp_result_write(const dp_result *r, const char *dir, const dp_write_op
 	if (st == DP_OK && (options->flags & DP_WRITE_STAGES)) {
 		st = write_stage(&a, dir, "wlop.ply", &r->wlop, ascii, err);
 		if (st == DP_OK)
-			st = write_stage(&a, dir, "anchors.ply", &r->anchors, ascii, err);
+			st = write_anchors(&a, dir, r, ascii, err);
 	}
 	if (st == DP_OK && (options->flags & DP_WRITE_RENDER))
 		st = render_result(&a, options->input, &ends, edges, options->up_axis, dir, err);

@@ -26,7 +26,7 @@ from . import _dpoints
 
 __all__ = [
     "Error", "Cancelled", "Cloud", "Result", "Samples",
-    "consolidate", "wlop", "read", "devices", "default_params", "__version__",
+    "consolidate", "wlop", "read", "devices", "default_params", "SETTLE_WAYS", "__version__",
 ]
 
 __version__ = _dpoints.version()
@@ -156,6 +156,13 @@ def _array(buf, dtype, shape):
     return np.frombuffer(buf, dtype=dtype).reshape(shape)
 
 
+# How an anchor stopped sinking, by Result.settled and the `settled` property of
+# anchors.ply (dp_settle in dpoints.h): still moving at the cap, an opposing
+# front, past the medial axis, as deep as its part is wide, slowed down with
+# its neighbours, past its plate's far face or given its flat face's depth.
+SETTLE_WAYS = ("unsettled", "front", "medial", "width", "slow", "flat")
+
+
 class Cloud:
     """Points read from a file: .points (N, 3) float32, .normals (N, 3) or
     None, .faces (F, 3) uint32 or None (meshes), .colors (N, 3) uint8 or None."""
@@ -187,7 +194,9 @@ class Result:
     surface (n, 3), normals (n, 3), skeleton (n, 3), length (n,) = |surface -
     skeleton|, eta (n,) the input support (1 where no input is near). r is the
     mean spacing of the surface; wlop and anchors are the coarse level's WLOP
-    samples and sunk anchors (Clouds); report is report.json as a dict."""
+    samples and sunk anchors (Clouds), and settled (len(anchors),) uint8 says
+    how each anchor stopped sinking, an index into SETTLE_WAYS; report is
+    report.json as a dict."""
 
     def __init__(self, capsule, points):
         self._capsule = capsule
@@ -202,6 +211,7 @@ class Result:
         self.colors = _array(a["colors"], np.uint8, (-1, 3))
         self.wlop = Cloud(a["wlop"])
         self.anchors = Cloud(a["anchors"])
+        self.settled = _array(a["settled"], np.uint8, (-1,))
         self.r = a["r"]
         self.report = json.loads(_dpoints.result_report(capsule, None))
 

@@ -449,13 +449,14 @@ static PyObject *py_result_arrays(PyObject *self, PyObject *args)
 	if (!r)
 		return NULL;
 	size_t n = r->surface.n;
-	return Py_BuildValue("{s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:d}", "colors", bytes_of(r->surface.rgb, 3 * n),
+	return Py_BuildValue("{s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:N,s:d}", "colors", bytes_of(r->surface.rgb, 3 * n),
 			     "surface",
 			     triples(r->surface.x, r->surface.y, r->surface.z, n), "normals",
 			     triples(r->surface.nx, r->surface.ny, r->surface.nz, n), "skeleton",
 			     triples(r->skeleton.x, r->skeleton.y, r->skeleton.z, n), "length",
 			     bytes_of(r->length, n * sizeof(float)), "eta", bytes_of(r->eta, n * sizeof(float)),
-			     "wlop", cloud_dict(&r->wlop), "anchors", cloud_dict(&r->anchors), "r", r->r);
+			     "wlop", cloud_dict(&r->wlop), "anchors", cloud_dict(&r->anchors), "settled",
+			     bytes_of(r->settled_by, r->anchors.n), "r", r->r);
 }
 
 static PyObject *py_result_report(PyObject *self, PyObject *args)

@@ -132,6 +132,13 @@ def test_result_arrays_and_report():
     np.testing.assert_allclose(np.linalg.norm(res.normals, axis=1), 1.0, atol=1e-3)
     assert res.report["results"]["deep_points"] == n
     assert res.report["parameters"]["wlop"]["samples"] == 600
+    # how each anchor settled, counted as report.json counts the ways
+    assert res.settled.shape == (len(res.anchors),) and res.settled.dtype == np.uint8
+    sink = res.report["results"]["sink"]
+    counts = np.bincount(res.settled, minlength=len(dpoints.SETTLE_WAYS))
+    assert len(counts) == len(dpoints.SETTLE_WAYS)
+    for way, count in zip(dpoints.SETTLE_WAYS, counts):
+        assert count == sink["unsettled" if way == "unsettled" else "settled_" + way]
     # the surface lies on the torus, the skeleton near its core circle
     d = np.hypot(np.hypot(res.surface[:, 0], res.surface[:, 1]) - 1, res.surface[:, 2])
     assert abs(np.median(d) - 0.35) < 0.05
@@ -153,6 +160,8 @@ def test_write_and_read_back(tmp_path):
     assert report["input"] == "torus" and "wlop.ply" in report["files"]
     mesh = dpoints.read(out / "dpoints.ply", mesh=True)
     assert len(mesh) == 2 * len(res)
+    anchors = dpoints.read(out / "anchors.ply")
+    np.testing.assert_array_equal(anchors.points, res.anchors.points)
     assert res.colors is None and surface.colors is None
 
 
