@@ -23,11 +23,13 @@
  *            the skeleton lie from the data (median and 90th percentile, in
  *            r), which a thin part turned into a cloud makes many r.
  * Every case with a ground-truth mesh also prints sink_depth: per way of
- * settling (dp_settle), how deep the coarse level's anchors sank below their
- * samples against the true depth, the radius of the largest ball inside the
- * mesh that touches it at the sample's nearest point (the medial ball there,
- * which a perfect anchor would centre): medians in r of the depth, the true
- * depth and their ratio (1: on the medial axis; above: sunk past it).
+ * settling (dp_settle), how far the coarse level's anchors lie from the mesh
+ * point nearest their samples against the true depth there, the radius of
+ * the largest ball inside the mesh that touches it at that point (the medial
+ * ball, which a perfect anchor would centre): medians in r of the distance,
+ * the true depth and the per-anchor ratio (1: on the medial axis; above:
+ * sunk past it), and the fraction nearer to another part of the mesh than to
+ * their own point (past the axis whatever the normals say).
  * --surface-iters caps the coarse level's surface iterations instead of the
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
@@ -35,6 +37,7 @@
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
 #include "dpoints_tools.h"
+#include "core/eig3.h"
 #include "knn/kdtree.h"
 #include "knn/knn.h"
 #include "tools/shapes.h"
@@ -254,78 +257,163 @@ static void print_seat(const dp_result *res)
 	free(middle);
 }
 
-/* The true depth of sink_depth: the mesh sampled this densely (about 0.2 r
- * apart on the bunny and the chair at their default counts), balls grown
- * from the nearest sample inwards along its triangle's normal in steps of
- * TRUE_STEP_R r, up to TRUE_MAX_R r, the largest that holds no sample deeper
- * than TRUE_SLACK_R r inside its sphere (the samples' own spacing and the
- * mesh's facets would stop it at once). WLOP samples farther than
- * NEAR_SURFACE_R r from every mesh sample (outliers) are left out. The mesh
- * must be wound outwards, as the data folder's and the built-in shapes are. */
-#define TRUE_SAMPLES 400000
-#define TRUE_STEP_R 0.25
+/* The true depth of sink_depth. The mesh is sampled TRUE_SPACING_R r apart
+ * (from its area; at least TRUE_MIN_SAMPLES, at most TRUE_MAX_SAMPLES). At the
+ * sample nearest an anchor's WLOP sample the normal is the PCA normal of the
+ * samples within TRUE_NORMAL_R r, signed by the triangle's: a facet's own
+ * normal is off by a few degrees on a decimated mesh (the bunny's), and a ball
+ * grown along it leaves the surface sideways early; over 2 r the PCA mixes in
+ * the next face at a plate's edge (the chair's edge anchors' true depths moved
+ * 15% between 0.1 r and 0.15 r spacing; over 1 r, within 2%, and the whole
+ * line within 1%). The largest ball touching the mesh there from inside is
+ * found by bisection: the ball of radius R - TRUE_SLACK_R r about the point R
+ * inside must hold no sample (the samples' own spacing stops the full ball at
+ * once), and these balls are nested, so emptiness falls once as R grows. That
+ * R overshoots the tangent ball by half the slack on a slab and on a sphere
+ * alike, which is taken off. WLOP samples farther than NEAR_SURFACE_R r from
+ * every mesh sample (outliers) are left out. The mesh must be wound outwards,
+ * as the data folder's and the built-in shapes are. */
+#define TRUE_SPACING_R 0.15
+#define TRUE_MIN_SAMPLES 100000
+#define TRUE_MAX_SAMPLES 3000000
+#define TRUE_NORMAL_R 1.0
+#define TRUE_NORMAL_CAP 512
 #define TRUE_SLACK_R 0.5
-#define TRUE_MAX_R 80.0
+#define TRUE_MAX_R 100.0
+#define TRUE_TOLERANCE_R 0.01
 #define NEAR_SURFACE_R 2.0
-#define SETTLE_KINDS 6
+#define SETTLE_KINDS (DP_SETTLE_FLAT + 1)
 
-static double true_depth(const dp_kdtree *t, const dp_cloud *g, uint32_t k, double r)
+typedef struct truth_set {
+	dp_cloud g;     /* mesh samples with their triangles' normals */
+	dp_kdtree tree;
+	uint32_t idx[TRUE_NORMAL_CAP];
+	float d2[TRUE_NORMAL_CAP];
+} truth_set;
+
+static double mesh_area(const dp_cloud *m)
 {
-	double last = 0.0;
-	for (double d = TRUE_STEP_R * r; d <= TRUE_MAX_R * r; d += TRUE_STEP_R * r) {
-		float c[3] = {(float)(g->x[k] - d * g->nx[k]), (float)(g->y[k] - d * g->ny[k]),
-			      (float)(g->z[k] - d * g->nz[k])};
-		double free_r = d - TRUE_SLACK_R * r;
-		if (free_r > 0.0 && dp_kdtree_any_within(t, c[0], c[1], c[2], (float)(free_r * free_r)))
-			break;
-		last = d;
+	double area = 0.0;
+	for (size_t f = 0; f < m->nfaces; f++) {
+		const uint32_t *v = m->faces + 3 * f;
+		double e1[3] = {m->x[v[1]] - m->x[v[0]], m->y[v[1]] - m->y[v[0]], m->z[v[1]] - m->z[v[0]]};
+		double e2[3] = {m->x[v[2]] - m->x[v[0]], m->y[v[2]] - m->y[v[0]], m->z[v[2]] - m->z[v[0]]};
+		double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+		area += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
 	}
-	return last;
+	return area;
 }
 
+/* The PCA normal of the samples around sample k, signed by its triangle's. */
+static void smooth_normal(truth_set *t, uint32_t k, double r, double n[3])
+{
+	const dp_cloud *g = &t->g;
+	float reach = (float)(TRUE_NORMAL_R * r);
+	size_t m = dp_kdtree_nearest_within(&t->tree, g->x[k], g->y[k], g->z[k], reach * reach, TRUE_NORMAL_CAP,
+					    t->idx, t->d2);
+	dp_moments mom = {0};
+	for (size_t j = 0; j < m; j++) {
+		double d[3] = {g->x[t->idx[j]] - g->x[k], g->y[t->idx[j]] - g->y[k], g->z[t->idx[j]] - g->z[k]};
+		dp_moments_add(&mom, d);
+	}
+	double cov[6], w[3], v[3];
+	double tri[3] = {g->nx[k], g->ny[k], g->nz[k]};
+	if (m < 3) {
+		memcpy(n, tri, sizeof tri);
+		return;
+	}
+	dp_moments_cov(&mom, cov);
+	dp_eig3_smallest(cov, w, v);
+	double sign = v[0] * tri[0] + v[1] * tri[1] + v[2] * tri[2] < 0.0 ? -1.0 : 1.0;
+	for (int c = 0; c < 3; c++)
+		n[c] = sign * v[c];
+}
+
+/* Whether the slack-shrunk ball about the point R inside along n is empty. */
+static int ball_free(const truth_set *t, const float p[3], const double n[3], double R, double slack)
+{
+	double inner = R - slack;
+	if (inner <= 0.0)
+		return 1;
+	return !dp_kdtree_any_within(&t->tree, (float)(p[0] - R * n[0]), (float)(p[1] - R * n[1]),
+				     (float)(p[2] - R * n[2]), (float)(inner * inner));
+}
+
+static double true_depth(truth_set *t, uint32_t k, double r)
+{
+	const dp_cloud *g = &t->g;
+	float p[3] = {g->x[k], g->y[k], g->z[k]};
+	double n[3], slack = TRUE_SLACK_R * r, lo = slack, hi = 2.0 * slack;
+	smooth_normal(t, k, r, n);
+	while (hi < TRUE_MAX_R * r && ball_free(t, p, n, hi, slack)) {
+		lo = hi;
+		hi *= 2.0;
+	}
+	if (hi >= TRUE_MAX_R * r && ball_free(t, p, n, TRUE_MAX_R * r, slack))
+		return TRUE_MAX_R * r;
+	while (hi - lo > TRUE_TOLERANCE_R * r) {
+		double mid = 0.5 * (lo + hi);
+		if (ball_free(t, p, n, mid, slack))
+			lo = mid;
+		else
+			hi = mid;
+	}
+	return fmax(lo - 0.5 * slack, 0.0);
+}
+
+/* Per way of settling: anchors, the medians of their distance from their
+ * mesh point, of the true depth there and of the per-anchor ratio of the two,
+ * and the fraction of them nearer to some other mesh sample than to their own
+ * by more than the slack, past the medial axis whatever the normals say. */
 static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 {
-	static const char *const kind[SETTLE_KINDS] = {"unsettled", "front", "medial", "width", "slow", "flat"};
+	static const char *const kind[] = {"unsettled", "front", "medial", "width", "slow", "flat"};
+	_Static_assert(sizeof kind / sizeof *kind == SETTLE_KINDS, "a name for every dp_settle code");
 	const dp_cloud *w = &res->wlop, *a = &res->anchors;
 	double r = res->level[0].r;
 	dp_error err = {0};
-	dp_cloud g = {0};
-	dp_kdtree t = {0};
+	truth_set *t = calloc(1, sizeof *t);
 	size_t n = a->n;
 	float *depth = malloc(n * sizeof *depth), *truth = malloc(n * sizeof *truth), *ratio = malloc(n * sizeof *ratio);
-	if (!depth || !truth || !ratio || !res->settled_by ||
-	    dp_mesh_sample(mesh, TRUE_SAMPLES, 0.0, 1, &g, &err) != DP_OK ||
-	    dp_kdtree_build(&t, g.n, g.x, g.y, g.z, &err) != DP_OK)
+	double area = mesh_area(mesh), want = area / (TRUE_SPACING_R * r * TRUE_SPACING_R * r);
+	size_t samples = (size_t)fmin(fmax(want, TRUE_MIN_SAMPLES), TRUE_MAX_SAMPLES);
+	if (!t || !depth || !truth || !ratio || !res->settled_by ||
+	    dp_mesh_sample(mesh, samples, 0.0, 1, &t->g, &err) != DP_OK ||
+	    dp_kdtree_build(&t->tree, t->g.n, t->g.x, t->g.y, t->g.z, &err) != DP_OK)
 		goto out;
-	printf(",\"sink_depth\":{");
-	int first = 1;
+	printf(",\"sink_depth\":{\"mesh_spacing_r\":%.3f", sqrt(area / (double)samples) / r);
 	for (int k = 0; k < SETTLE_KINDS; k++) {
-		size_t m = 0;
+		size_t m = 0, past = 0;
 		for (size_t i = 0; i < n; i++) {
 			uint32_t near;
 			float d2;
 			float rr = (float)(NEAR_SURFACE_R * r);
 			if (res->settled_by[i] != k ||
-			    dp_kdtree_nearest_within(&t, w->x[i], w->y[i], w->z[i], rr * rr, 1, &near, &d2) != 1)
+			    dp_kdtree_nearest_within(&t->tree, w->x[i], w->y[i], w->z[i], rr * rr, 1, &near, &d2) != 1)
 				continue;
-			float v[3] = {w->x[i] - a->x[i], w->y[i] - a->y[i], w->z[i] - a->z[i]};
-			depth[m] = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]) / (float)r;
-			truth[m] = (float)(true_depth(&t, &g, near, r) / r);
-			ratio[m] = depth[m] / fmaxf(truth[m], (float)TRUE_STEP_R);
+			const dp_cloud *g = &t->g;
+			float v[3] = {g->x[near] - a->x[i], g->y[near] - a->y[i], g->z[near] - a->z[i]};
+			float own = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), other = own - (float)(TRUE_SLACK_R * r);
+			past += other > 0.0f && dp_kdtree_any_within(&t->tree, a->x[i], a->y[i], a->z[i], other * other);
+			depth[m] = own / (float)r;
+			truth[m] = (float)(true_depth(t, near, r) / r);
+			ratio[m] = depth[m] / fmaxf(truth[m], (float)TRUE_TOLERANCE_R);
 			m++;
 		}
 		if (m == 0)
 			continue;
-		printf("%s\"%s\":{\"anchors\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f}", first ? "" : ",",
-		       kind[k], m, median(depth, m), median(truth, m), median(ratio, m));
-		first = 0;
+		printf(",\"%s\":{\"anchors\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f,\"past\":%.3f}", kind[k],
+		       m, median(depth, m), median(truth, m), median(ratio, m), (double)past / (double)m);
 	}
 	printf("}");
 out:
 	if (err.message[0])
 		fprintf(stderr, "bench_completion: sink_depth: %s\n", err.message);
-	dp_kdtree_free(&t);
-	dp_cloud_free(&g);
+	if (t) {
+		dp_kdtree_free(&t->tree);
+		dp_cloud_free(&t->g);
+	}
+	free(t);
 	free(depth);
 	free(truth);
 	free(ratio);

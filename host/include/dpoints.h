@@ -955,7 +955,8 @@ DP_API void dp_result_free(dp_result *result);
  * or'ed into dp_write_options.flags. */
 typedef enum dp_write_flags {
 	DP_WRITE_ASCII = 1 << 0,  /* ascii PLY instead of binary little endian */
-	DP_WRITE_STAGES = 1 << 1, /* wlop.ply and anchors.ply: the coarse level's samples and anchors */
+	DP_WRITE_STAGES = 1 << 1, /* wlop.ply and anchors.ply: the coarse level's samples and anchors,
+				     these with a float `settled`, how each stopped sinking (dp_settle) */
 	DP_WRITE_RENDER = 1 << 2  /* input.png (needs options->input), skeleton.png, surface.png, dpoints.png */
 } dp_write_flags;
 

@@ -298,11 +298,13 @@ static dp_status write_stage(report_arg *a, const char *dir, const char *name, c
 /* anchors.ply: the anchors with how each stopped sinking, the dp_settle code
  * as a float property `settled`, which point-cloud viewers offer as a scalar
  * field to colour by (where a skeleton leaves the body, the way its anchors
- * settled there says which rule let them through). */
+ * settled there says which rule let them through). Anchors carry their
+ * samples' normals and no colours; a result put together by hand may lack
+ * the codes or the normals, and is written as the cloud it is. */
 static dp_status write_anchors(report_arg *a, const char *dir, const dp_result *r, int ascii, dp_error *err)
 {
 	const dp_cloud *c = &r->anchors;
-	if (!r->settled_by || c->n == 0 || !c->nx)
+	if (!r->settled_by || c->n == 0 || !c->nx || c->rgb || c->intensity)
 		return write_stage(a, dir, "anchors.ply", c, ascii, err);
 	float *settled = dp_alloc_array(c->n, sizeof *settled);
 	if (!settled)
@@ -311,7 +313,7 @@ static dp_status write_anchors(report_arg *a, const char *dir, const dp_result *
 		settled[i] = (float)r->settled_by[i];
 	const dp_ply_property props[] = {{"x", c->x},	{"y", c->y},   {"z", c->z},	    {"nx", c->nx},
 					 {"ny", c->ny}, {"nz", c->nz}, {"settled", settled}};
-	dp_status st = write_ply(a, dir, "anchors.ply", c->n, props, 7, NULL, 0, ascii, err);
+	dp_status st = write_ply(a, dir, "anchors.ply", c->n, props, sizeof props / sizeof *props, NULL, 0, ascii, err);
 	free(settled);
 	return st;
 }

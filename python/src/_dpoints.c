@@ -640,7 +640,9 @@ PyMODINIT_FUNC PyInit__dpoints(void)
 	if (m && PyModule_AddIntConstant(m, "WRITE_ASCII", DP_WRITE_ASCII) == 0 &&
 	    PyModule_AddIntConstant(m, "WRITE_STAGES", DP_WRITE_STAGES) == 0 &&
 	    PyModule_AddIntConstant(m, "WRITE_RENDER", DP_WRITE_RENDER) == 0 &&
-	    PyModule_AddIntConstant(m, "ERR_CANCELLED", DP_ERR_CANCELLED) == 0)
+	    PyModule_AddIntConstant(m, "ERR_CANCELLED", DP_ERR_CANCELLED) == 0 &&
+	    PyModule_AddIntConstant(m, "SETTLE_FRONT", DP_SETTLE_FRONT) == 0 &&
+	    PyModule_AddIntConstant(m, "SETTLE_FLAT", DP_SETTLE_FLAT) == 0)
 		return m;
 	Py_XDECREF(m);
 	return NULL;

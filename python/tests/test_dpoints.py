@@ -16,6 +16,7 @@ import numpy as np
 import pytest
 
 import dpoints
+from dpoints import _dpoints
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
@@ -132,18 +133,42 @@ def test_result_arrays_and_report():
     np.testing.assert_allclose(np.linalg.norm(res.normals, axis=1), 1.0, atol=1e-3)
     assert res.report["results"]["deep_points"] == n
     assert res.report["parameters"]["wlop"]["samples"] == 600
-    # how each anchor settled, counted as report.json counts the ways
-    assert res.settled.shape == (len(res.anchors),) and res.settled.dtype == np.uint8
-    sink = res.report["results"]["sink"]
-    counts = np.bincount(res.settled, minlength=len(dpoints.SETTLE_WAYS))
-    assert len(counts) == len(dpoints.SETTLE_WAYS)
-    for way, count in zip(dpoints.SETTLE_WAYS, counts):
-        assert count == sink["unsettled" if way == "unsettled" else "settled_" + way]
     # the surface lies on the torus, the skeleton near its core circle
     d = np.hypot(np.hypot(res.surface[:, 0], res.surface[:, 1]) - 1, res.surface[:, 2])
     assert abs(np.median(d) - 0.35) < 0.05
     k = np.hypot(np.hypot(res.skeleton[:, 0], res.skeleton[:, 1]) - 1, res.skeleton[:, 2])
     assert np.median(k) < 0.15
+
+
+def open_box(n=3000, seed=0):
+    """A 2 x 2 x 0.3 box scanned without its underside, seeded, float32: its
+    anchors settle by fronts, slow-down and the flat-face rule."""
+    rng = np.random.default_rng(seed)
+    half = np.array([1.0, 1.0, 0.15])
+    centre = np.array([0.0, 0.0, 0.15])
+    # the top (+z) and the four sides, each chosen in proportion to its area
+    faces = [(2, +1), (0, +1), (0, -1), (1, +1), (1, -1)]
+    area = np.array([np.prod(np.delete(2 * half, axis)) for axis, _ in faces])
+    pts = []
+    for (axis, sign), count in zip(faces, rng.multinomial(n, area / area.sum())):
+        p = rng.uniform(-half, half, (count, 3))
+        p[:, axis] = sign * half[axis]
+        pts.append(centre + p)
+    return np.concatenate(pts).astype(np.float32)
+
+
+def test_settled_ways():
+    res = dpoints.consolidate(open_box(), **SMALL)
+    assert res.settled.shape == (len(res.anchors),) and res.settled.dtype == np.uint8
+    assert dpoints.SETTLE_WAYS[_dpoints.SETTLE_FRONT] == "front"
+    assert dpoints.SETTLE_WAYS[_dpoints.SETTLE_FLAT] == "flat" and len(dpoints.SETTLE_WAYS) == _dpoints.SETTLE_FLAT + 1
+    # each anchor's way, counted as report.json counts the ways
+    sink = res.report["results"]["sink"]
+    counts = np.bincount(res.settled, minlength=len(dpoints.SETTLE_WAYS))
+    assert len(counts) == len(dpoints.SETTLE_WAYS)
+    for way, count in zip(dpoints.SETTLE_WAYS, counts):
+        assert count == sink["unsettled" if way == "unsettled" else "settled_" + way], (way, counts, sink)
+    assert (counts > 0).sum() >= 3, counts  # the scene tells the ways apart
 
 
 def test_write_and_read_back(tmp_path):
@@ -162,6 +187,7 @@ def test_write_and_read_back(tmp_path):
     assert len(mesh) == 2 * len(res)
     anchors = dpoints.read(out / "anchors.ply")
     np.testing.assert_array_equal(anchors.points, res.anchors.points)
+    np.testing.assert_array_equal(anchors.normals, res.anchors.normals)
     assert res.colors is None and surface.colors is None
 
 
