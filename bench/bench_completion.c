@@ -298,7 +298,8 @@ static double mesh_area(const dp_cloud *m)
 		const uint32_t *v = m->faces + 3 * f;
 		double e1[3] = {m->x[v[1]] - m->x[v[0]], m->y[v[1]] - m->y[v[0]], m->z[v[1]] - m->z[v[0]]};
 		double e2[3] = {m->x[v[2]] - m->x[v[0]], m->y[v[2]] - m->y[v[0]], m->z[v[2]] - m->z[v[0]]};
-		double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2], e1[0] * e2[1] - e1[1] * e2[0]};
+		double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
+			       e1[0] * e2[1] - e1[1] * e2[0]};
 		area += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
 	}
 	return area;
@@ -374,7 +375,8 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 	dp_error err = {0};
 	truth_set *t = calloc(1, sizeof *t);
 	size_t n = a->n;
-	float *depth = malloc(n * sizeof *depth), *truth = malloc(n * sizeof *truth), *ratio = malloc(n * sizeof *ratio);
+	float *depth = malloc(n * sizeof *depth), *truth = malloc(n * sizeof *truth);
+	float *ratio = malloc(n * sizeof *ratio);
 	double area = mesh_area(mesh), want = area / (TRUE_SPACING_R * r * TRUE_SPACING_R * r);
 	size_t samples = (size_t)fmin(fmax(want, TRUE_MIN_SAMPLES), TRUE_MAX_SAMPLES);
 	if (!t || !depth || !truth || !ratio || !res->settled_by ||
@@ -393,8 +395,10 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 				continue;
 			const dp_cloud *g = &t->g;
 			float v[3] = {g->x[near] - a->x[i], g->y[near] - a->y[i], g->z[near] - a->z[i]};
-			float own = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]), other = own - (float)(TRUE_SLACK_R * r);
-			past += other > 0.0f && dp_kdtree_any_within(&t->tree, a->x[i], a->y[i], a->z[i], other * other);
+			float own = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+			float other = own - (float)(TRUE_SLACK_R * r);
+			past += other > 0.0f &&
+				dp_kdtree_any_within(&t->tree, a->x[i], a->y[i], a->z[i], other * other);
 			depth[m] = own / (float)r;
 			truth[m] = (float)(true_depth(t, near, r) / r);
 			ratio[m] = depth[m] / fmaxf(truth[m], (float)TRUE_TOLERANCE_R);
@@ -402,8 +406,8 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 		}
 		if (m == 0)
 			continue;
-		printf(",\"%s\":{\"anchors\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f,\"past\":%.3f}", kind[k],
-		       m, median(depth, m), median(truth, m), median(ratio, m), (double)past / (double)m);
+		printf(",\"%s\":{\"anchors\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f,\"past\":%.3f}",
+		       kind[k], m, median(depth, m), median(truth, m), median(ratio, m), (double)past / (double)m);
 	}
 	printf("}");
 out:

@@ -311,9 +311,12 @@ static dp_status write_anchors(report_arg *a, const char *dir, const dp_result *
 		return dp_fail(err, DP_ERR_NOMEM, "anchors.ply: out of memory for %zu anchors", c->n);
 	for (size_t i = 0; i < c->n; i++)
 		settled[i] = (float)r->settled_by[i];
-	const dp_ply_property props[] = {{"x", c->x},	{"y", c->y},   {"z", c->z},	    {"nx", c->nx},
-					 {"ny", c->ny}, {"nz", c->nz}, {"settled", settled}};
-	dp_status st = write_ply(a, dir, "anchors.ply", c->n, props, sizeof props / sizeof *props, NULL, 0, ascii, err);
+	const dp_ply_property props[] = {
+		{"x", c->x},   {"y", c->y},   {"z", c->z}, {"nx", c->nx},
+		{"ny", c->ny}, {"nz", c->nz}, {"settled", settled},
+	};
+	size_t nprops = sizeof props / sizeof *props;
+	dp_status st = write_ply(a, dir, "anchors.ply", c->n, props, nprops, NULL, 0, ascii, err);
 	free(settled);
 	return st;
 }

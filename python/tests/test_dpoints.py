@@ -161,7 +161,8 @@ def test_settled_ways():
     res = dpoints.consolidate(open_box(), **SMALL)
     assert res.settled.shape == (len(res.anchors),) and res.settled.dtype == np.uint8
     assert dpoints.SETTLE_WAYS[_dpoints.SETTLE_FRONT] == "front"
-    assert dpoints.SETTLE_WAYS[_dpoints.SETTLE_FLAT] == "flat" and len(dpoints.SETTLE_WAYS) == _dpoints.SETTLE_FLAT + 1
+    assert dpoints.SETTLE_WAYS[_dpoints.SETTLE_FLAT] == "flat"
+    assert len(dpoints.SETTLE_WAYS) == _dpoints.SETTLE_FLAT + 1
     # each anchor's way, counted as report.json counts the ways
     sink = res.report["results"]["sink"]
     counts = np.bincount(res.settled, minlength=len(dpoints.SETTLE_WAYS))
