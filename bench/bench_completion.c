@@ -26,10 +26,11 @@
  * settling (dp_settle), how far the coarse level's anchors lie from the mesh
  * point nearest their samples against the true depth there, the radius of
  * the largest ball inside the mesh that touches it at that point (the medial
- * ball, which a perfect anchor would centre): medians in r of the distance,
- * the true depth and the per-anchor ratio (1: on the medial axis; above:
- * sunk past it), and the fraction nearer to another part of the mesh than to
- * their own point (past the axis whatever the normals say).
+ * ball, which a perfect anchor would centre; read two ways that bracket it,
+ * see true_depth): medians in r of the distance, the true depth and the
+ * per-anchor ratio (1: on the medial axis; above: sunk past it), and the
+ * fraction nearer to another part of the mesh than to their own point by more
+ * than the slack (past the axis whatever the normals say).
  * --surface-iters caps the coarse level's surface iterations instead of the
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
@@ -40,6 +41,7 @@
 #include "core/eig3.h"
 #include "knn/kdtree.h"
 #include "knn/knn.h"
+#include "tools/mesh.h"
 #include "tools/shapes.h"
 
 #include <limits.h>
@@ -277,7 +279,7 @@ static void print_seat(const dp_result *res)
 #define TRUE_MIN_SAMPLES 100000
 #define TRUE_MAX_SAMPLES 3000000
 #define TRUE_NORMAL_R 1.0
-#define TRUE_NORMAL_CAP 512
+#define TRUE_NORMAL_CAP 2048
 #define TRUE_SLACK_R 0.5
 #define TRUE_MAX_R 100.0
 #define TRUE_TOLERANCE_R 0.01
@@ -290,20 +292,6 @@ typedef struct truth_set {
 	uint32_t idx[TRUE_NORMAL_CAP];
 	float d2[TRUE_NORMAL_CAP];
 } truth_set;
-
-static double mesh_area(const dp_cloud *m)
-{
-	double area = 0.0;
-	for (size_t f = 0; f < m->nfaces; f++) {
-		const uint32_t *v = m->faces + 3 * f;
-		double e1[3] = {m->x[v[1]] - m->x[v[0]], m->y[v[1]] - m->y[v[0]], m->z[v[1]] - m->z[v[0]]};
-		double e2[3] = {m->x[v[2]] - m->x[v[0]], m->y[v[2]] - m->y[v[0]], m->z[v[2]] - m->z[v[0]]};
-		double c[3] = {e1[1] * e2[2] - e1[2] * e2[1], e1[2] * e2[0] - e1[0] * e2[2],
-			       e1[0] * e2[1] - e1[1] * e2[0]};
-		area += 0.5 * sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
-	}
-	return area;
-}
 
 /* The PCA normal of the samples around sample k, signed by its triangle's. */
 static void smooth_normal(truth_set *t, uint32_t k, double r, double n[3])
@@ -340,18 +328,31 @@ static int ball_free(const truth_set *t, const float p[3], const double n[3], do
 				     (float)(p[2] - R * n[2]), (float)(inner * inner));
 }
 
-static double true_depth(truth_set *t, uint32_t k, double r)
+/* The true depth at sample k into *slack_r, and the tangent ball through the
+ * sample that first entered the shrunk ball into *contact_r; -1 in both where
+ * no ball up to TRUE_MAX_R r closes (an open rim, or a part thinner than the
+ * slack, which the shrunk balls never reach). Where the contact lies straight
+ * across, as on a slab or a sphere, the two agree; off the normal line (a
+ * plate's edge, an inside corner, a body curving round) the shrunk ball slides
+ * on along the surface and the first depth reads high, up to the whole slack
+ * and more where the surface grazes the ball, while the second takes a sample
+ * that entered the ball for a contact and reads low. */
+static void true_depth(truth_set *t, uint32_t k, double r, double *slack_r, double *contact_r)
 {
 	const dp_cloud *g = &t->g;
 	float p[3] = {g->x[k], g->y[k], g->z[k]};
-	double n[3], slack = TRUE_SLACK_R * r, lo = slack, hi = 2.0 * slack;
+	double n[3], slack = TRUE_SLACK_R * r, lo = slack, hi = 2.0 * slack, cap = TRUE_MAX_R * r;
+	*slack_r = *contact_r = -1.0;
 	smooth_normal(t, k, r, n);
-	while (hi < TRUE_MAX_R * r && ball_free(t, p, n, hi, slack)) {
+	while (hi < cap && ball_free(t, p, n, hi, slack)) {
 		lo = hi;
 		hi *= 2.0;
 	}
-	if (hi >= TRUE_MAX_R * r && ball_free(t, p, n, TRUE_MAX_R * r, slack))
-		return TRUE_MAX_R * r;
+	if (hi >= cap) {
+		hi = cap;
+		if (ball_free(t, p, n, hi, slack))
+			return;
+	}
 	while (hi - lo > TRUE_TOLERANCE_R * r) {
 		double mid = 0.5 * (lo + hi);
 		if (ball_free(t, p, n, mid, slack))
@@ -359,13 +360,24 @@ static double true_depth(truth_set *t, uint32_t k, double r)
 		else
 			hi = mid;
 	}
-	return fmax(lo - 0.5 * slack, 0.0);
+	*slack_r = *contact_r = fmax(lo - 0.5 * slack, 0.0) / r;
+	float c[3] = {(float)(p[0] - hi * n[0]), (float)(p[1] - hi * n[1]), (float)(p[2] - hi * n[2])};
+	float reach = (float)(hi - slack);
+	uint32_t q;
+	float d2;
+	if (dp_kdtree_nearest_within(&t->tree, c[0], c[1], c[2], reach * reach, 1, &q, &d2) == 1) {
+		double d[3] = {p[0] - g->x[q], p[1] - g->y[q], p[2] - g->z[q]};
+		double along = d[0] * n[0] + d[1] * n[1] + d[2] * n[2];
+		if (along > 0.0)
+			*contact_r = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]) / (2.0 * along) / r;
+	}
 }
 
-/* Per way of settling: anchors, the medians of their distance from their
- * mesh point, of the true depth there and of the per-anchor ratio of the two,
- * and the fraction of them nearer to some other mesh sample than to their own
- * by more than the slack, past the medial axis whatever the normals say. */
+/* Per way of settling: anchors (and those whose ball never closed, left out
+ * of the rest), the medians of their distance from their mesh point, of the
+ * true depth there by either reading and of the per-anchor ratios, and the
+ * fraction of them nearer to some other mesh sample than to their own by more
+ * than the slack: past the medial axis whatever the normals say. */
 static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 {
 	static const char *const kind[] = {"unsettled", "front", "medial", "width", "slow", "flat"};
@@ -376,16 +388,18 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 	truth_set *t = calloc(1, sizeof *t);
 	size_t n = a->n;
 	float *depth = malloc(n * sizeof *depth), *truth = malloc(n * sizeof *truth);
-	float *ratio = malloc(n * sizeof *ratio);
-	double area = mesh_area(mesh), want = area / (TRUE_SPACING_R * r * TRUE_SPACING_R * r);
+	float *ratio = malloc(n * sizeof *ratio), *contact = malloc(n * sizeof *contact);
+	float *ratio_contact = malloc(n * sizeof *ratio_contact);
+	if (!t || !depth || !truth || !ratio || !contact || !ratio_contact || !res->settled_by || dp_mesh_check(mesh, "sink_depth", &err) != DP_OK)
+		goto out;
+	double area = dp_mesh_area(mesh), want = area / (TRUE_SPACING_R * r * TRUE_SPACING_R * r);
 	size_t samples = (size_t)fmin(fmax(want, TRUE_MIN_SAMPLES), TRUE_MAX_SAMPLES);
-	if (!t || !depth || !truth || !ratio || !res->settled_by ||
-	    dp_mesh_sample(mesh, samples, 0.0, 1, &t->g, &err) != DP_OK ||
+	if (dp_mesh_sample(mesh, samples, 0.0, 1, &t->g, &err) != DP_OK ||
 	    dp_kdtree_build(&t->tree, t->g.n, t->g.x, t->g.y, t->g.z, &err) != DP_OK)
 		goto out;
 	printf(",\"sink_depth\":{\"mesh_spacing_r\":%.3f", sqrt(area / (double)samples) / r);
 	for (int k = 0; k < SETTLE_KINDS; k++) {
-		size_t m = 0, past = 0;
+		size_t m = 0, past = 0, open = 0;
 		for (size_t i = 0; i < n; i++) {
 			uint32_t near;
 			float d2;
@@ -396,18 +410,28 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 			const dp_cloud *g = &t->g;
 			float v[3] = {g->x[near] - a->x[i], g->y[near] - a->y[i], g->z[near] - a->z[i]};
 			float own = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+			double truth_r, contact_r;
+			true_depth(t, near, r, &truth_r, &contact_r);
+			if (truth_r < 0.0) {
+				open++;
+				continue;
+			}
 			float other = own - (float)(TRUE_SLACK_R * r);
 			past += other > 0.0f &&
 				dp_kdtree_any_within(&t->tree, a->x[i], a->y[i], a->z[i], other * other);
 			depth[m] = own / (float)r;
-			truth[m] = (float)(true_depth(t, near, r) / r);
+			truth[m] = (float)truth_r;
+			contact[m] = (float)contact_r;
 			ratio[m] = depth[m] / fmaxf(truth[m], (float)TRUE_TOLERANCE_R);
+			ratio_contact[m] = depth[m] / fmaxf(contact[m], (float)TRUE_TOLERANCE_R);
 			m++;
 		}
-		if (m == 0)
+		if (m + open == 0)
 			continue;
-		printf(",\"%s\":{\"anchors\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f,\"past\":%.3f}",
-		       kind[k], m, median(depth, m), median(truth, m), median(ratio, m), (double)past / (double)m);
+		printf(",\"%s\":{\"anchors\":%zu,\"open\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f,"
+		       "\"contact_r\":%.2f,\"ratio_contact\":%.2f,\"past\":%.3f}",
+		       kind[k], m, open, median(depth, m), median(truth, m), median(ratio, m), median(contact, m),
+		       median(ratio_contact, m), m ? (double)past / (double)m : 0.0);
 	}
 	printf("}");
 out:
@@ -421,6 +445,8 @@ out:
 	free(depth);
 	free(truth);
 	free(ratio);
+	free(contact);
+	free(ratio_contact);
 }
 
 /* The library's defaults with this run's --surface-iters. */
