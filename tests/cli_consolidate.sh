@@ -85,10 +85,10 @@ print("wlop.ply and anchors.ply: %d points with normals, the anchors with how th
 fi
 
 # How each anchor settled (anchors.ply's settled, the dp_settle code): the
-# codes add up to report.json's counts. The torus above settles by fronts
-# alone; a chair seen from one side also settles by the medial test, the width
-# bound, slow-down and its flat faces, so a code written for the wrong anchor
-# or under the wrong name shows.
+# codes add up to report.json's counts, which sinking keeps apart from the
+# codes. The torus above settles by fronts alone; a chair seen from one side
+# settles all five ways, each a different number of times, so a code written
+# as another shows (pytest checks the codes row by row against the library's).
 if expect_ok chair1 scan --shape chair --views 1 --res 64 --noise 0.003 -o "$tmp/chair1.ply" &&
 	expect_ok ways consolidate "$tmp/chair1.ply" -o "$tmp/ways" --samples 300 --save-stages --quiet; then
 	if msg=$(py "$PLY_PY"'

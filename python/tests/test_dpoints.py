@@ -157,7 +157,7 @@ def open_box(n=3000, seed=0):
     return np.concatenate(pts).astype(np.float32)
 
 
-def test_settled_ways():
+def test_settled_ways(tmp_path):
     res = dpoints.consolidate(open_box(), **SMALL)
     assert res.settled.shape == (len(res.anchors),) and res.settled.dtype == np.uint8
     assert dpoints.SETTLE_WAYS[_dpoints.SETTLE_FRONT] == "front"
@@ -170,6 +170,16 @@ def test_settled_ways():
     for way, count in zip(dpoints.SETTLE_WAYS, counts):
         assert count == sink["unsettled" if way == "unsettled" else "settled_" + way], (way, counts, sink)
     assert (counts > 0).sum() >= 3, counts  # the scene tells the ways apart
+    # anchors.ply carries them row by row
+    res.write(tmp_path, ascii=True, stages=True)
+    with open(tmp_path / "anchors.ply") as f:
+        header = []
+        while not header or header[-1] != "end_header":
+            header.append(f.readline().strip())
+        names = [h.split()[-1] for h in header if h.startswith("property")]
+        rows = np.loadtxt(f, ndmin=2)
+    assert names[-1] == "settled" and len(rows) == len(res.settled)
+    np.testing.assert_array_equal(rows[:, names.index("settled")], res.settled)
 
 
 def test_write_and_read_back(tmp_path):
