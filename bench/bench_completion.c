@@ -4,7 +4,7 @@
  * backend only: this measures quality, bench_stages compares the backends.
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
- *                    [--coarse N] [--surface-iters N] [--wlop-seed S]
+ *                    [--coarse N] [--surface-iters N] [--wlop-seed S] [--sink-depth 0|1]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -30,7 +30,12 @@
  * see true_depth): medians in r of the distance, the true depth and the
  * per-anchor ratio (1: on the medial axis; above: sunk past it), and the
  * fraction nearer to another part of the mesh than to their own point by more
- * than the slack (past the axis whatever the normals say).
+ * than the slack (past the axis whatever the normals say), and the count that
+ * lie outside the mesh by its winding number (sunk through a face that was
+ * never scanned, or from a sample whose normal came out inwards): the
+ * skeleton points they become hang completed surface around themselves, off
+ * the body.
+ * --sink-depth 0 leaves sink_depth out (it takes most of a run's time).
  * --surface-iters caps the coarse level's surface iterations instead of the
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
@@ -69,6 +74,7 @@ typedef struct options {
 	const char *save; /* folder for each case's input, surface and skeleton PLYs, or NULL */
 	uint64_t seed;
 	uint64_t wlop_seed; /* --wlop-seed: WLOP's initial sample choice, or 0 for the library's default */
+	int sink_depth;     /* --sink-depth 0 leaves sink_depth out (most of a run's time at the defaults) */
 } options;
 
 static const options *opts;
@@ -373,11 +379,38 @@ static void true_depth(truth_set *t, uint32_t k, double r, double *slack_r, doub
 	}
 }
 
+/* Whether (x, y, z) lies outside the mesh: its winding number, the solid
+ * angle its triangles subtend there over 4π (Van Oosterom and Strackee's
+ * formula per triangle), is below one half. The number counts the closed
+ * parts that hold the point, so it reads right where parts overlap (the
+ * chair's leg tops lie inside its seat, where the nearest face's side would
+ * call the seat's middle outside), and it stays near one inside a body with
+ * a few holes (the bunny's base). `corners` holds each face's corners. */
+static int is_outside(const double *corners, size_t nfaces, float x, float y, float z)
+{
+	double total = 0.0;
+	for (size_t f = 0; f < nfaces; f++) {
+		const double *t = corners + 9 * f;
+		double a[3] = {t[0] - x, t[1] - y, t[2] - z}, b[3] = {t[3] - x, t[4] - y, t[5] - z};
+		double c[3] = {t[6] - x, t[7] - y, t[8] - z};
+		double la = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+		double lb = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+		double lc = sqrt(c[0] * c[0] + c[1] * c[1] + c[2] * c[2]);
+		double det = a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) +
+			     a[2] * (b[0] * c[1] - b[1] * c[0]);
+		double ab = a[0] * b[0] + a[1] * b[1] + a[2] * b[2], ac = a[0] * c[0] + a[1] * c[1] + a[2] * c[2];
+		double bc = b[0] * c[0] + b[1] * c[1] + b[2] * c[2];
+		total += 2.0 * atan2(det, la * lb * lc + ab * lc + ac * lb + bc * la);
+	}
+	return total / (4.0 * M_PI) < 0.5;
+}
+
 /* Per way of settling: anchors (and those whose ball never closed, left out
  * of the rest), the medians of their distance from their mesh point, of the
  * true depth there by either reading and of the per-anchor ratios, and the
  * fraction of them nearer to some other mesh sample than to their own by more
- * than the slack: past the medial axis whatever the normals say. */
+ * than the slack: past the medial axis whatever the normals say; and how many
+ * of them, open ones included, lie outside the mesh (is_outside). */
 static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 {
 	static const char *const kind[] = {"unsettled", "front", "medial", "width", "slow", "flat"};
@@ -390,8 +423,12 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 	float *depth = malloc(n * sizeof *depth), *truth = malloc(n * sizeof *truth);
 	float *ratio = malloc(n * sizeof *ratio), *contact = malloc(n * sizeof *contact);
 	float *ratio_contact = malloc(n * sizeof *ratio_contact);
-	if (!t || !depth || !truth || !ratio || !contact || !ratio_contact || !res->settled_by || dp_mesh_check(mesh, "sink_depth", &err) != DP_OK)
+	double *corners = NULL;
+	if (!t || !depth || !truth || !ratio || !contact || !ratio_contact || !res->settled_by || dp_mesh_check(mesh, "sink_depth", &err) != DP_OK ||
+	    !(corners = malloc(mesh->nfaces * 9 * sizeof *corners)))
 		goto out;
+	for (size_t f = 0; f < mesh->nfaces; f++)
+		dp_mesh_triangle(mesh, f, corners + 9 * f, corners + 9 * f + 3, corners + 9 * f + 6);
 	double area = dp_mesh_area(mesh), want = area / (TRUE_SPACING_R * r * TRUE_SPACING_R * r);
 	size_t samples = (size_t)fmin(fmax(want, TRUE_MIN_SAMPLES), TRUE_MAX_SAMPLES);
 	if (dp_mesh_sample(mesh, samples, 0.0, 1, &t->g, &err) != DP_OK ||
@@ -399,7 +436,7 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 		goto out;
 	printf(",\"sink_depth\":{\"mesh_spacing_r\":%.3f", sqrt(area / (double)samples) / r);
 	for (int k = 0; k < SETTLE_KINDS; k++) {
-		size_t m = 0, past = 0, open = 0;
+		size_t m = 0, past = 0, open = 0, outside = 0;
 		for (size_t i = 0; i < n; i++) {
 			uint32_t near;
 			float d2;
@@ -407,6 +444,7 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 			if (res->settled_by[i] != k ||
 			    dp_kdtree_nearest_within(&t->tree, w->x[i], w->y[i], w->z[i], rr * rr, 1, &near, &d2) != 1)
 				continue;
+			outside += is_outside(corners, mesh->nfaces, a->x[i], a->y[i], a->z[i]);
 			const dp_cloud *g = &t->g;
 			float v[3] = {g->x[near] - a->x[i], g->y[near] - a->y[i], g->z[near] - a->z[i]};
 			float own = sqrtf(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
@@ -429,9 +467,9 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 		if (m + open == 0)
 			continue;
 		printf(",\"%s\":{\"anchors\":%zu,\"open\":%zu,\"depth_r\":%.2f,\"true_r\":%.2f,\"ratio\":%.2f,"
-		       "\"contact_r\":%.2f,\"ratio_contact\":%.2f,\"past\":%.3f}",
+		       "\"contact_r\":%.2f,\"ratio_contact\":%.2f,\"past\":%.3f,\"outside\":%zu}",
 		       kind[k], m, open, median(depth, m), median(truth, m), median(ratio, m), median(contact, m),
-		       median(ratio_contact, m), m ? (double)past / (double)m : 0.0);
+		       median(ratio_contact, m), m ? (double)past / (double)m : 0.0, outside);
 	}
 	printf("}");
 out:
@@ -447,6 +485,7 @@ out:
 	free(ratio);
 	free(contact);
 	free(ratio_contact);
+	free(corners);
 }
 
 /* The library's defaults with this run's --surface-iters. */
@@ -496,7 +535,8 @@ static int run(dp_context *ctx, const char *name, const dp_cloud *mesh, const dp
 	print_eval("surface", &es);
 	if (guessed.n >= 2 && dp_eval(mesh, &guessed, NULL, &eg, &err) == DP_OK)
 		print_eval("surface_unsupported", &eg);
-	print_sink_depth(&res, mesh);
+	if (opts->sink_depth)
+		print_sink_depth(&res, mesh);
 	if (!strcmp(name, "chair")) {
 		print_legs(&res);
 		print_seat(&res);
@@ -725,6 +765,7 @@ static int parse(int argc, char **argv, options *o)
 	o->surface_iters = -1;
 	o->seed = 7;
 	o->wlop_seed = 0;
+	o->sink_depth = 1;
 	for (int i = 1; i + 1 < argc; i += 2) {
 		if (!strcmp(argv[i], "--case"))
 			o->cases = argv[i + 1];
@@ -748,6 +789,8 @@ static int parse(int argc, char **argv, options *o)
 			o->seed = strtoull(argv[i + 1], NULL, 10);
 		else if (!strcmp(argv[i], "--wlop-seed"))
 			o->wlop_seed = strtoull(argv[i + 1], NULL, 10);
+		else if (!strcmp(argv[i], "--sink-depth") && (!strcmp(argv[i + 1], "0") || !strcmp(argv[i + 1], "1")))
+			o->sink_depth = argv[i + 1][0] == '1';
 		else
 			return -1;
 	}
@@ -771,7 +814,8 @@ int main(int argc, char **argv)
 	opts = &o;
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue,lamppost] "
-				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N] [--wlop-seed S]\n");
+				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N] [--wlop-seed S] "
+				"[--sink-depth 0|1]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;
