@@ -109,7 +109,8 @@ static void print_eval(const char *name, const dp_eval_result *e)
 	       "\"spacing_cv\":%.4f",
 	       name, e->points, e->accuracy_mean, e->accuracy_p95, e->coverage, e->spacing_cv);
 	if (e->has_normals)
-		printf(",\"normal_angle_deg\":%.3f,\"normal_flipped\":%.4f", e->normal_angle_deg, e->normal_flipped);
+		printf(",\"normal_angle_deg\":%.3f,\"normal_flipped\":%.4f,\"normal_flipped_clear\":%.4f",
+		       e->normal_angle_deg, e->normal_flipped, e->normal_flipped_clear);
 	printf("}");
 }
 

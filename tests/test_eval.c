@@ -68,7 +68,7 @@ static void test_exact_samples(void **state)
 	printf("Poisson coverage expected %.4f\n", expect);
 	assert_true(fabs(r.coverage - expect) < 0.01);
 	assert_true(fabs(r.spacing_cv - sqrt(4.0 / M_PI - 1.0)) < 0.02);
-	assert_true(r.normal_angle_deg < 1e-3 && r.normal_flipped == 0);
+	assert_true(r.normal_angle_deg < 1e-3 && r.normal_flipped == 0 && r.normal_flipped_clear == 0);
 	assert_int_equal(r.normals_used, pts.n);
 	dp_cloud_free(&pts);
 	dp_cloud_free(&m);
@@ -193,6 +193,8 @@ static void test_normals(void **state)
 	dp_eval_result r = evaluate(&m, &work);
 	printf("quarter flipped: flipped %.4f, angle %.4f deg\n", r.normal_flipped, r.normal_angle_deg);
 	assert_true(fabs(r.normal_flipped - 0.25) < 1e-9);
+	/* nothing on a sphere faces inwards: every flip is clear */
+	assert_true(fabs(r.normal_flipped_clear - 0.25) < 1e-9);
 	assert_true(r.normal_angle_deg < 1e-3);
 	dp_cloud_free(&work);
 	/* Tilted by 10 degrees, and by 120 (= 60 ignoring sign, all flipped). */
@@ -204,6 +206,7 @@ static void test_normals(void **state)
 		printf("tilted %.0f deg: angle %.4f, flipped %.4f\n", tilt[k], r.normal_angle_deg, r.normal_flipped);
 		assert_true(fabs(r.normal_angle_deg - unsigned_angle[k]) < 1e-3);
 		assert_true(fabs(r.normal_flipped - flipped[k]) < 1e-9);
+		assert_true(fabs(r.normal_flipped_clear - flipped[k]) < 1e-9);
 		dp_cloud_free(&work);
 	}
 	/* Zero normals are left out of the normal metrics. */
@@ -213,6 +216,45 @@ static void test_normals(void **state)
 	assert_int_equal(r.normals_used, work.n - 1);
 	dp_cloud_free(&work);
 	dp_cloud_free(&pts);
+	dp_cloud_free(&m);
+}
+
+/* A grid of points spacing g apart a quarter of the way through a slab of
+ * thickness T, normals up: the bottom face is nearest (T/4 below), so every
+ * normal is flipped, while the top face lies 3T/4 above. Within the nearest
+ * distance plus g/2 it is reached when g > T: the grid is too coarse to tell
+ * the faces apart and no flip is clear; at g < T every one is. */
+static void test_flipped_clear(void **state)
+{
+	(void)state;
+	dp_shape s;
+	dp_cloud m, pts;
+	dp_error err = {0};
+	assert_int_equal(dp_shape_default("slab", &s, &err), DP_OK);
+	s.width = 2.0;
+	s.thickness = 0.05;
+	if (dp_shape_mesh(&s, &m, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const double spacing[2] = {2.0 * s.thickness, 0.5 * s.thickness}, clear[2] = {0.0, 1.0};
+	for (int k = 0; k < 2; k++) {
+		int g = (int)lround(1.2 / spacing[k]) + 1;
+		assert_int_equal(dp_cloud_alloc(&pts, (size_t)g * (size_t)g, 1, &err), DP_OK);
+		for (int i = 0; i < g; i++)
+			for (int j = 0; j < g; j++) {
+				size_t p = (size_t)i * (size_t)g + (size_t)j;
+				pts.x[p] = (float)(-0.6 + i * spacing[k]);
+				pts.y[p] = (float)(-0.6 + j * spacing[k]);
+				pts.z[p] = (float)(-0.25 * s.thickness);
+				pts.nx[p] = pts.ny[p] = 0.0f;
+				pts.nz[p] = 1.0f;
+			}
+		dp_eval_result r = evaluate(&m, &pts);
+		printf("slab %.3f thick, points %.4f apart: flipped %.4f, clear %.4f\n", s.thickness, spacing[k],
+		       r.normal_flipped, r.normal_flipped_clear);
+		assert_true(r.normal_flipped == 1.0);
+		assert_true(r.normal_flipped_clear == clear[k]);
+		dp_cloud_free(&pts);
+	}
 	dp_cloud_free(&m);
 }
 
@@ -304,6 +346,7 @@ int main(void)
 		cmocka_unit_test(test_shifted_points),
 		cmocka_unit_test(test_half_sphere),
 		cmocka_unit_test(test_normals),
+		cmocka_unit_test(test_flipped_clear),
 		cmocka_unit_test(test_spacing),
 		cmocka_unit_test(test_bad_input),
 	};

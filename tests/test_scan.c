@@ -217,7 +217,7 @@ static void test_bvh_matches_brute_force(void **state)
 	dp_mesh_bbox(&m, lo, hi);
 	dp_rng rng;
 	dp_rng_seed(&rng, 11);
-	int hits = 0;
+	int hits = 0, facing = 0;
 	const int trials = 3000;
 	for (int trial = 0; trial < trials; trial++) {
 		double o[3], target[3], d[3];
@@ -264,11 +264,32 @@ static void test_bvh_matches_brute_force(void **state)
 			double d2 = dp_bvh_nearest(&bvh, q, cp, &face);
 			if (fabs(d2 - bb) > 1e-12 * (1 + bb))
 				fail_msg("point %d: BVH nearest %.17g, brute force %.17g", trial, d2, bb);
+			/* A face facing a random way within a little past the nearest. */
+			double n[3], reach = sqrt(bb) + 0.05 * (hi[0] - lo[0]) * dp_rng_uniform(&rng);
+			for (int k = 0; k < 3; k++)
+				n[k] = 2 * dp_rng_uniform(&rng) - 1;
+			int brute = 0;
+			for (size_t f = 0; f < m.nfaces && !brute; f++) {
+				double a[3], b[3], c[3], fn[3];
+				dp_mesh_triangle(&m, f, a, b, c);
+				fn[0] = (b[1] - a[1]) * (c[2] - a[2]) - (b[2] - a[2]) * (c[1] - a[1]);
+				fn[1] = (b[2] - a[2]) * (c[0] - a[0]) - (b[0] - a[0]) * (c[2] - a[2]);
+				fn[2] = (b[0] - a[0]) * (c[1] - a[1]) - (b[1] - a[1]) * (c[0] - a[0]);
+				dp_closest_point_triangle(q, a, b, c, cp);
+				brute = fn[0] * n[0] + fn[1] * n[1] + fn[2] * n[2] > 0 &&
+					pow(q[0] - cp[0], 2) + pow(q[1] - cp[1], 2) + pow(q[2] - cp[2], 2) <= reach * reach;
+			}
+			int found = dp_bvh_facing_within(&bvh, q, reach * reach, n);
+			if (found != brute)
+				fail_msg("point %d: BVH %s a facing triangle, brute force %s", trial, found ? "finds" : "misses",
+					 brute ? "finds one" : "none");
+			facing += found;
 		}
 	}
-	printf("BVH: %zu faces, %zu nodes, %d of %d rays hit; all equal brute force\n", bvh.ntris, bvh.nnodes, hits,
-	       trials);
+	printf("BVH: %zu faces, %zu nodes, %d of %d rays hit, %d of %d points see a facing triangle near; all equal "
+	       "brute force\n", bvh.ntris, bvh.nnodes, hits, trials, facing, 2 * trials);
 	assert_true(hits > trials / 10 && hits < trials);
+	assert_true(facing > trials / 10 && facing < 2 * trials - trials / 10);
 	dp_bvh_free(&bvh);
 	dp_cloud_free(&m);
 }

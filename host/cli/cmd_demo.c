@@ -22,6 +22,7 @@ static void json_eval(json_writer *w, const char *key, const dp_eval_result *e)
 	if (e->has_normals) {
 		json_num(w, "normal_angle_deg", e->normal_angle_deg);
 		json_num(w, "normal_flipped", e->normal_flipped);
+		json_num(w, "normal_flipped_clear", e->normal_flipped_clear);
 	}
 	json_end_object(w);
 }

@@ -49,7 +49,8 @@ int dp_cmd_eval(int argc, char **argv)
 		printf("coverage               %.4f (within %.6f)\n", r.coverage, r.coverage_radius);
 		printf("spacing mean / CV      %.6f / %.4f\n", r.spacing_mean, r.spacing_cv);
 		if (r.has_normals)
-			printf("normal error / flipped %.2f deg / %.4f\n", r.normal_angle_deg, r.normal_flipped);
+			printf("normal error / flipped %.2f deg / %.4f (clear %.4f)\n", r.normal_angle_deg, r.normal_flipped,
+			       r.normal_flipped_clear);
 		else
 			printf("normals                none in %s\n", pos[1]);
 	}

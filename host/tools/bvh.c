@@ -403,3 +403,36 @@ double dp_bvh_nearest(const dp_bvh *bvh, const double p[3], double closest[3], u
 	}
 	return best;
 }
+
+int dp_bvh_facing_within(const dp_bvh *bvh, const double p[3], double r2, const double n[3])
+{
+	/* depth-first, one node popped for at most two pushed */
+	uint32_t stack[DP_BVH_MAX_DEPTH + 1];
+	int sp = 0;
+	stack[sp++] = 0;
+	while (sp > 0) {
+		const dp_bvh_node *node = &bvh->nodes[stack[--sp]];
+		if (box_dist2(node, p) > r2)
+			continue;
+		if (!node->count) {
+			stack[sp++] = node->first;
+			stack[sp++] = (uint32_t)(node - bvh->nodes) + 1;
+			continue;
+		}
+		for (uint32_t s = node->first; s < node->first + node->count; s++) {
+			const double *t = bvh->tri + 9 * (size_t)s;
+			double face_n[3], b[3], c[3], q[3];
+			cross3(t + 3, t + 6, face_n);
+			if (dot3(face_n, n) <= 0.0)
+				continue;
+			for (int d = 0; d < 3; d++) {
+				b[d] = t[d] + t[3 + d];
+				c[d] = t[d] + t[6 + d];
+			}
+			dp_closest_point_triangle(p, t, b, c, q);
+			if (dist2(p, q) <= r2)
+				return 1;
+		}
+	}
+	return 0;
+}

@@ -44,6 +44,10 @@ int dp_bvh_raycast(const dp_bvh *bvh, const double origin[3], const double dir[3
  * the face index. */
 double dp_bvh_nearest(const dp_bvh *bvh, const double p[3], double closest[3], uint32_t *face);
 
+/* Whether some triangle within squared distance r2 of p faces along n (its
+ * normal by winding, (b - a) x (c - a), makes an acute angle with n). */
+int dp_bvh_facing_within(const dp_bvh *bvh, const double p[3], double r2, const double n[3]);
+
 /* The primitives, exposed so tests can check the BVH against brute force. */
 /* Möller–Trumbore: returns 1 and t when the ray hits triangle (a, a+e1, a+e2)
  * at t > 0. */

@@ -49,12 +49,14 @@ static dp_status check_inputs(const dp_cloud *mesh, const dp_cloud *points, cons
 	return DP_OK;
 }
 
-/* Accuracy and normal metrics: each point against its nearest triangle. */
-static void point_to_surface(const dp_bvh *bvh, const dp_cloud *mesh, const dp_cloud *points, double *dist,
-			     dp_eval_result *r)
+/* Accuracy and normal metrics: each point against its nearest triangle; a
+ * flip is clear when no face within the point's distance plus `tolerance`
+ * faces along its normal. */
+static void point_to_surface(const dp_bvh *bvh, const dp_cloud *mesh, const dp_cloud *points, double tolerance,
+			     double *dist, dp_eval_result *r)
 {
 	double angle_sum = 0;
-	size_t flipped = 0, used = 0;
+	size_t flipped = 0, clear = 0, used = 0;
 	for (size_t i = 0; i < points->n; i++) {
 		double p[3] = {points->x[i], points->y[i], points->z[i]}, q[3];
 		uint32_t face;
@@ -66,8 +68,11 @@ static void point_to_surface(const dp_bvh *bvh, const dp_cloud *mesh, const dp_c
 		if (!isfinite(len) || len < EVAL_MIN_NORMAL || dp_mesh_triangle_normal(mesh, face, t) <= 0)
 			continue;
 		double c = (n[0] * t[0] + n[1] * t[1] + n[2] * t[2]) / len;
-		if (c < 0)
+		if (c < 0) {
+			double reach = dist[i] + tolerance;
 			flipped++;
+			clear += !dp_bvh_facing_within(bvh, p, reach * reach, n);
+		}
 		angle_sum += acos(fmin(fabs(c), 1.0)) * 180.0 / M_PI;
 		used++;
 	}
@@ -75,6 +80,7 @@ static void point_to_surface(const dp_bvh *bvh, const dp_cloud *mesh, const dp_c
 	r->has_normals = used > 0;
 	r->normal_angle_deg = used ? angle_sum / (double)used : 0;
 	r->normal_flipped = used ? (double)flipped / (double)used : 0;
+	r->normal_flipped_clear = used ? (double)clear / (double)used : 0;
 }
 
 static void accuracy_stats(double *dist, size_t n, double diag, dp_eval_result *r)
@@ -168,6 +174,10 @@ dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_pa
 	result->points = points->n;
 	result->diagonal = diag;
 
+	/* the spacing first: it sets the tolerance of the clear flips */
+	st = spacing_and_coverage(mesh, points, params, diag, result, err);
+	if (st != DP_OK)
+		return st;
 	double *dist = dp_alloc_array(points->n, sizeof(double));
 	if (!dist)
 		return dp_fail(err, DP_ERR_NOMEM, "eval: out of memory for %zu points", points->n);
@@ -177,14 +187,12 @@ dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_pa
 		free(dist);
 		return st;
 	}
-	point_to_surface(&bvh, mesh, points, dist, result);
+	point_to_surface(&bvh, mesh, points, 0.5 * result->spacing_mean * diag, dist, result);
 	dp_bvh_free(&bvh);
 	accuracy_stats(dist, points->n, diag, result);
 	free(dist);
-
-	st = spacing_and_coverage(mesh, points, params, diag, result, err);
 	result->seconds = dp_seconds() - t0;
-	return st;
+	return DP_OK;
 }
 
 void dp_eval_json(const dp_eval_result *r, FILE *out)
@@ -198,9 +206,12 @@ void dp_eval_json(const dp_eval_result *r, FILE *out)
 		r->accuracy_max, r->completeness_mean, r->coverage, r->coverage_radius, r->spacing_mean,
 		r->spacing_cv);
 	if (r->has_normals)
-		fprintf(out, "\"normals_used\": %zu, \"normal_angle_deg\": %.9g, \"normal_flipped\": %.9g, ",
-			r->normals_used, r->normal_angle_deg, r->normal_flipped);
+		fprintf(out,
+			"\"normals_used\": %zu, \"normal_angle_deg\": %.9g, \"normal_flipped\": %.9g, "
+			"\"normal_flipped_clear\": %.9g, ",
+			r->normals_used, r->normal_angle_deg, r->normal_flipped, r->normal_flipped_clear);
 	else
-		fprintf(out, "\"normals_used\": 0, \"normal_angle_deg\": null, \"normal_flipped\": null, ");
+		fprintf(out, "\"normals_used\": 0, \"normal_angle_deg\": null, \"normal_flipped\": null, "
+			     "\"normal_flipped_clear\": null, ");
 	fprintf(out, "\"seconds\": %.6g}\n", r->seconds);
 }
