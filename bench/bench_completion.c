@@ -35,7 +35,7 @@
  * never scanned, or from a sample whose normal came out inwards): the
  * skeleton points they become hang completed surface around themselves, off
  * the body.
- * --sink-depth 0 leaves sink_depth out (it takes most of a run's time).
+ * --sink-depth 0 leaves sink_depth out (a quarter to a half of a case's time).
  * --surface-iters caps the coarse level's surface iterations instead of the
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
@@ -74,7 +74,7 @@ typedef struct options {
 	const char *save; /* folder for each case's input, surface and skeleton PLYs, or NULL */
 	uint64_t seed;
 	uint64_t wlop_seed; /* --wlop-seed: WLOP's initial sample choice, or 0 for the library's default */
-	int sink_depth;     /* --sink-depth 0 leaves sink_depth out (most of a run's time at the defaults) */
+	int sink_depth;     /* --sink-depth 0 leaves sink_depth out (a quarter to a half of a case's time) */
 } options;
 
 static const options *opts;
@@ -425,8 +425,8 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 	float *ratio = malloc(n * sizeof *ratio), *contact = malloc(n * sizeof *contact);
 	float *ratio_contact = malloc(n * sizeof *ratio_contact);
 	double *corners = NULL;
-	if (!t || !depth || !truth || !ratio || !contact || !ratio_contact || !res->settled_by || dp_mesh_check(mesh, "sink_depth", &err) != DP_OK ||
-	    !(corners = malloc(mesh->nfaces * 9 * sizeof *corners)))
+	if (!t || !depth || !truth || !ratio || !contact || !ratio_contact || !res->settled_by ||
+	    dp_mesh_check(mesh, "sink_depth", &err) != DP_OK || !(corners = malloc(mesh->nfaces * 9 * sizeof *corners)))
 		goto out;
 	for (size_t f = 0; f < mesh->nfaces; f++)
 		dp_mesh_triangle(mesh, f, corners + 9 * f, corners + 9 * f + 3, corners + 9 * f + 6);

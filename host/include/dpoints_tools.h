@@ -238,13 +238,13 @@ typedef struct dp_eval_result {
 	double normal_angle_deg;  /* mean angle to the nearest triangle's normal, ignoring sign */
 	double normal_flipped;    /* fraction more than 90 deg from the face normal (outward if the
 				   * mesh is wound counter-clockwise seen from outside) */
-	double seconds;
-	/* Last, so code built against the struct without it still lines up: the
-	 * fraction of normals more than 90 deg from every face within their
-	 * distance plus half spacing_mean, flips the points' own resolution
-	 * resolves. A normal in a part thinner than that, or at a crease, that
-	 * faces one face of it counts as right whichever face is nearest. */
+	/* The fraction more than 90 deg from every face within their distance
+	 * plus half spacing_mean: flips the points' own resolution settles. A
+	 * normal in a part thinner than that, or beside a crease, that faces
+	 * either of its faces counts as right whichever one is nearest; a point
+	 * far off the surface reaches many faces and is excused more often. */
 	double normal_flipped_clear;
+	double seconds;
 } dp_eval_result;
 
 /*

@@ -406,8 +406,9 @@ double dp_bvh_nearest(const dp_bvh *bvh, const double p[3], double closest[3], u
 
 int dp_bvh_facing_within(const dp_bvh *bvh, const double p[3], double r2, const double n[3])
 {
-	/* depth-first, one node popped for at most two pushed */
-	uint32_t stack[DP_BVH_MAX_DEPTH + 1];
+	/* depth-first, one node popped for two pushed: at most one waiting
+	 * sibling per level, as in the other queries */
+	uint32_t stack[DP_BVH_MAX_DEPTH];
 	int sp = 0;
 	stack[sp++] = 0;
 	while (sp > 0) {

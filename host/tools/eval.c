@@ -1,5 +1,6 @@
 /* Metrics of a point set against a ground-truth mesh: accuracy, completeness,
- * coverage, normal error, spacing uniformity. */
+ * coverage, normal error and flips (all, and those the points' spacing
+ * resolves), spacing uniformity. */
 #include "core/common.h"
 #include "knn/knn.h"
 #include "tools/bvh.h"
