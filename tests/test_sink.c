@@ -577,6 +577,67 @@ static void test_meet_shift(void **state)
 	}
 }
 
+/* A one-sided hemisphere about 21 r in radius whose normals are tilted a
+ * few degrees at random, as WLOP's are on real scans: a point sinking along a
+ * tilted normal drifts off the line through the centre by its depth times the
+ * tilt, and the visible shell on the side it drifts to comes nearer to it
+ * than its own sample does. Returns the anchors' mean distance from the
+ * centre in R; *medial receives how many settled by the medial test. */
+static double tilted_hemisphere(double fraction, double tilt_rad, size_t *medial)
+{
+	shape s = {.kind = HEMISPHERE, .radius = 1.0};
+	dp_cloud c, h;
+	sample_shape(&s, dmin_for(&s, 2500), 6, &c);
+	dp_rng rng;
+	dp_rng_seed(&rng, 17);
+	for (size_t i = 0; i < c.n; i++) {
+		double n[3] = {c.nx[i] + tilt_rad * dp_rng_normal(&rng), c.ny[i] + tilt_rad * dp_rng_normal(&rng),
+			       c.nz[i] + tilt_rad * dp_rng_normal(&rng)};
+		double len = norm3(n[0], n[1], n[2]);
+		c.nx[i] = (float)(n[0] / len);
+		c.ny[i] = (float)(n[1] / len);
+		c.nz[i] = (float)(n[2] / len);
+	}
+	double r = spacing(&c);
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	p.medial_fraction = fraction;
+	dp_sink_stats st;
+	run_sink_with(tk_cl_context(), &c, r, &p, &h, &st);
+	double sum = 0.0;
+	for (size_t i = 0; i < h.n; i++)
+		sum += norm3(h.x[i], h.y[i], h.z[i]);
+	double mean = sum / (double)h.n / s.radius;
+	printf("  hemisphere R = %.1f r, normals tilted %.3f rad per axis, medial fraction %g: %zu medial-settled, "
+	       "anchors %.3f R from the centre on average\n",
+	       s.radius / r, tilt_rad, fraction, st.settled_medial, mean);
+	*medial = st.settled_medial;
+	dp_cloud_free(&c);
+	dp_cloud_free(&h);
+	return mean;
+}
+
+/* The medial test's margin grows with depth (dpoints.h, step 1b): a fixed
+ * margin of a quarter r stops a one-sided hemisphere's points most of the way
+ * out from its centre, where the shell curving away on the side a point has
+ * drifted to is nearer by more than that (with exact normals too: the
+ * smoothing towards neighbours and the samples' noise set the drift). */
+static void test_medial_fraction(void **state)
+{
+	(void)state;
+	dp_sink_params p;
+	dp_sink_params_default(&p);
+	const double tilt[2] = {0.0, 0.05}, within[2] = {0.05, 0.15};
+	for (int k = 0; k < 2; k++) {
+		size_t fixed_medial, grown_medial;
+		double fixed = tilted_hemisphere(0.0, tilt[k], &fixed_medial);
+		double grown = tilted_hemisphere(p.medial_fraction, tilt[k], &grown_medial);
+		assert_true(grown < within[k]);
+		assert_true(fixed > 0.4);
+		assert_true(fixed_medial > 100 && grown_medial < fixed_medial / 10);
+	}
+}
+
 static void test_shallow_cap(void **state)
 {
 	(void)state;
@@ -1021,6 +1082,7 @@ int main(void)
 		cmocka_unit_test(test_thin_wall),
 		cmocka_unit_test(test_thinner_wall),
 		cmocka_unit_test(test_thin_part_does_not_stop_the_rest),
+		cmocka_unit_test(test_medial_fraction),
 		cmocka_unit_test(test_shallow_cap),
 		cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_cap_reported),
