@@ -815,8 +815,8 @@ int main(int argc, char **argv)
 	opts = &o;
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue,lamppost] "
-				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] [--surface-iters N] [--wlop-seed S] "
-				"[--sink-depth 0|1]\n");
+				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] "
+				"[--surface-iters N] [--wlop-seed S] [--sink-depth 0|1]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;
