@@ -661,6 +661,10 @@ static void plate(double end_smoothing_r, double *inside_frac, double *leaning_f
 	dp_surface_params p;
 	dp_surface_params_default(&p);
 	p.end_smoothing_r = end_smoothing_r;
+	/* the smoothing alone: the last step would move the points this scene
+	 * counts inside out to the plate's faces (without the smoothing it
+	 * leaves none inside here) */
+	p.sheet_points = 0;
 	dp_surface_stats st;
 	if (dp_surface(tk_cl_context(), &input, &samples, &skeleton, NULL, r, &p, &out, NULL, &st, &err) != DP_OK)
 		fail_msg("dp_surface: %s", err.message);

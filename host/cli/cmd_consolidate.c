@@ -94,7 +94,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
 	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
-	int any_side = 0, old_orient = 0, along = 0;
+	int any_side = 0, old_orient = 0, along = 0, no_sheet_points = 0;
 	const char *samples = NULL;
 	const char *list_file = NULL, *shard_text = NULL;
 	int skip_done = 0, up_given = 0;
@@ -223,6 +223,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "surface sums over whole balls (the paper) instead of the point's own side", NULL, NULL},
 		{"--no-dpoint-orient", CLI_FLAG, &old_orient,
 		 "sign PCA normals by the old normal instead of the dpoint orientation", NULL, NULL},
+		{"--no-sheet-points", CLI_FLAG, &no_sheet_points,
+		 "leave completed points that came to rest in a skeletal sheet (a plate's middle, their normals along "
+		 "it) where they are, instead of moving them across it to the plate's face", NULL, NULL},
 		{"--coarse-samples", CLI_COUNT, &p->refine.coarse_samples,
 		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
@@ -287,6 +290,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->surface.same_side = !any_side;
 	p->skeleton.across_only = !along;
 	p->surface.orient_by_dpoint = !old_orient;
+	p->surface.sheet_points = !no_sheet_points;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
 	dp_cli_list all = {0}, devices = {0};

@@ -773,6 +773,11 @@ typedef struct dp_surface_params {
 	                             (q_i is the skeleton point itself); default 2 (surface.c has the numbers) */
 	double min_move_r;        /* at rest when in each of the last `window` iterations at most one point in
 	                             1000 moved more than this, in r, >= 0; 0 = off; default 0.1 */
+	int sheet_points;         /* 1: after the iterations, a point with input support Σθ < 1 that lies in a
+	                             skeletal sheet, its deep point along the sheet, moves across it to the
+	                             depth of the deep points near it that leave the sheet (a point stranded
+	                             in a plate's middle; host/stages/sheet_points.h; dp_consolidate does it
+	                             after the last level only); default 1 */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);
@@ -787,6 +792,7 @@ typedef struct dp_surface_stats {
 	                               the dpoint orientation m, held points included (orient_by_dpoint signs
 	                               the others by m) */
 	size_t escaped;          /* points moved out of a ball by the inside test, over all iterations */
+	size_t sheet_points;     /* points moved across a skeletal sheet (sheet_points) */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
 } dp_surface_stats;

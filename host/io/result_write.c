@@ -102,6 +102,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_num(w, "min_move_r", p->min_move_r);
 	dp_json_bool(w, "same_side", p->same_side);
 	dp_json_bool(w, "orient_by_dpoint", p->orient_by_dpoint);
+	dp_json_bool(w, "sheet_points", p->sheet_points);
 	dp_json_end_object(w);
 }
 
@@ -182,6 +183,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_num(w, "spacing_growth", r->surface_stats.spacing_growth);
 	dp_json_int(w, "reattached", (long long)r->surface_stats.reattached);
 	dp_json_int(w, "escaped", (long long)r->surface_stats.escaped);
+	dp_json_int(w, "sheet_points", (long long)r->surface_stats.sheet_points);
 	dp_json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);
 	dp_json_num(w, "seconds", r->surface_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->surface_stats.pair_evaluations);

@@ -75,6 +75,7 @@ static void add_level(dp_result *res, size_t points, double r, const dp_surface_
 	all->pair_evaluations += st->pair_evaluations;
 	all->reattached += st->reattached;
 	all->escaped += st->escaped;
+	all->sheet_points += st->sheet_points;
 	all->normals_disagreeing = st->normals_disagreeing;
 	all->last_mean_move = st->last_mean_move;
 }
@@ -149,6 +150,7 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 			st = dp_mean_spacing(res->surface.n, res->surface.x, res->surface.y, res->surface.z, &res->r,
 					     err);
 		dp_surface_stats sst = {0};
+		relax.sheet_points = params->surface.sheet_points && l == levels - 1;
 		if (st == DP_OK)
 			st = dp_surface(ctx, input, &res->surface, &res->skeleton, balls, res->r, &relax, &out, res->eta,
 					&sst, err);
@@ -281,8 +283,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	if (escaping && st == DP_OK)
 		st = sinking_balls(input, res, ball_radius, err);
 	dp_balls sunk = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius}, *balls = escaping ? &sunk : NULL;
+	/* points stranded in a sheet move once, after the last level: moved
+	 * earlier, insertion and relaxing take them back into it */
+	dp_surface_params coarse_params = params->surface;
+	coarse_params.sheet_points = params->surface.sheet_points && levels == 1;
 	if (st == DP_OK)
-		st = dp_surface(ctx, input, &res->wlop, &res->skeleton, balls, res->r, &params->surface, &coarse,
+		st = dp_surface(ctx, input, &res->wlop, &res->skeleton, balls, res->r, &coarse_params, &coarse,
 				res->eta, &sst, err);
 	if (st == DP_OK) {
 		copy_rows(&res->surface, &coarse, n0);

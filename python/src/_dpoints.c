@@ -61,7 +61,7 @@ static const param_field PARAMS[] = {
 	F(surface, max_iters, P_INT),     F(surface, same_side, P_INT),
 	F(surface, orient_by_dpoint, P_INT), F(surface, window, P_INT),
 	F(surface, min_drop, P_DOUBLE),   F(surface, min_growth, P_DOUBLE),
-	F(surface, min_move_r, P_DOUBLE),
+	F(surface, min_move_r, P_DOUBLE), F(surface, sheet_points, P_INT),
 	F(refine, coarse_samples, P_SIZE), F(refine, level_factor, P_DOUBLE),
 	F(refine, level_iters, P_INT),    F(refine, samples_floor, P_SIZE),
 };
