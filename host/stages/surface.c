@@ -732,8 +732,9 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	}
 	if (st->iterations > 0)
 		st->spacing_growth = w->spacing[st->iterations] / w->spacing[1];
-	if (p->sheet_points) {
-		/* A_E and A_EDIST are free once the iterations are over */
+	if (p->sheet_points && st->iterations > 0) {
+		/* A_E and A_EDIST are free once the iterations are over; η is the
+		 * last iteration's (none without an iteration) */
 		dp_sheet_points_args sheet = {
 			.n = n, .px = a[A_PX], .py = a[A_PY], .pz = a[A_PZ], .nx = a[A_NX], .ny = a[A_NY], .nz = a[A_NZ],
 			.hx = a[A_HX], .hy = a[A_HY], .hz = a[A_HZ], .eta = a[A_ETA], .held_support = HELD_SUPPORT,
