@@ -5,7 +5,8 @@
  * lying in the mid-plane with their deep points along it move to the bottom
  * face (the less sampled one) or to the face whose side they lie on, with
  * the face's normal; the faces' own points, a held point, a point off the
- * sheet and a point over a skeletal curve stay. */
+ * sheet, a point over a skeletal curve and a rim point beyond the sheet's
+ * edge stay. */
 #include "testkit.h"
 
 #include "core/common.h"
@@ -95,9 +96,12 @@ static void test_stranded_points_cross(void **state)
 	size_t off = add_point(&s, -2.5f, -3.5f, -1.0f, -4.5f, -3.5f, 0.0f, 1.0f);
 	/* over a curve: no sheet to cross */
 	size_t curve = add_point(&s, 1.5f, 40.0f, 0.1f, curve_h[0], curve_h[1], curve_h[2], 1.0f);
-	float before[5][3];
-	const size_t watch[5] = {mid, above, held, off, curve};
-	for (int k = 0; k < 5; k++)
+	/* the plate's rim face, 2 r beyond the sheet's last row, its deep point
+	 * running outwards along the sheet: stays */
+	size_t rim = add_point(&s, (float)(EXTENT + 2) * R, 0.5f, 0.1f, (float)EXTENT * R, 0.5f, 0.0f, 1.0f);
+	float before[6][3];
+	const size_t watch[6] = {mid, above, held, off, curve, rim};
+	for (int k = 0; k < 6; k++)
 		before[k][0] = s.px[watch[k]], before[k][1] = s.py[watch[k]], before[k][2] = s.pz[watch[k]];
 	float face_z[MAX_POINTS];
 	for (size_t i = 0; i < faces; i++)
@@ -113,7 +117,7 @@ static void test_stranded_points_cross(void **state)
 	assert_float_equal(s.nz[mid], -1.0f, 1e-5);
 	assert_float_equal(s.pz[above], HALF * R, 1e-4);
 	assert_float_equal(s.nz[above], 1.0f, 1e-5);
-	for (int k = 2; k < 5; k++)
+	for (int k = 2; k < 6; k++)
 		assert_true(s.px[watch[k]] == before[k][0] && s.py[watch[k]] == before[k][1] &&
 			    s.pz[watch[k]] == before[k][2]);
 	for (size_t i = 0; i < faces; i++)

@@ -626,7 +626,7 @@ static void test_escape(void **state)
  * normal and the slide, lean into the plate. */
 #define PLATE_T 0.125
 #define CLUMP_R 3.0
-static void plate(double end_smoothing_r, double *inside_frac, double *leaning_frac)
+static void plate(double end_smoothing_r, int sheet_points, double *inside_frac, double *leaning_frac, size_t *moved)
 {
 	dp_rng rng;
 	dp_rng_seed(&rng, 31);
@@ -661,10 +661,7 @@ static void plate(double end_smoothing_r, double *inside_frac, double *leaning_f
 	dp_surface_params p;
 	dp_surface_params_default(&p);
 	p.end_smoothing_r = end_smoothing_r;
-	/* the smoothing alone: the last step would move the points this scene
-	 * counts inside out to the plate's faces (without the smoothing it
-	 * leaves none inside here) */
-	p.sheet_points = 0;
+	p.sheet_points = sheet_points;
 	dp_surface_stats st;
 	if (dp_surface(tk_cl_context(), &input, &samples, &skeleton, NULL, r, &p, &out, NULL, &st, &err) != DP_OK)
 		fail_msg("dp_surface: %s", err.message);
@@ -679,9 +676,10 @@ static void plate(double end_smoothing_r, double *inside_frac, double *leaning_f
 	assert_true(middle > n / 4);
 	*inside_frac = (double)inside / (double)middle;
 	*leaning_frac = (double)leaning / (double)middle;
-	printf("  plate %.1f r thick, clumps %.0f r apart, end smoothing %.1f r: of %zu points %zu inside, %zu "
-	       "leaning; %d iterations\n", PLATE_T / r, CLUMP_R, end_smoothing_r, middle, inside, leaning,
-	       st.iterations);
+	*moved = st.sheet_points;
+	printf("  plate %.1f r thick, clumps %.0f r apart, end smoothing %.1f r, sheet step %s: of %zu points %zu "
+	       "inside, %zu leaning, %zu moved across the sheet; %d iterations\n", PLATE_T / r, CLUMP_R,
+	       end_smoothing_r, sheet_points ? "on" : "off", middle, inside, leaning, st.sheet_points, st.iterations);
 	dp_cloud_free(&input);
 	dp_cloud_free(&samples);
 	dp_cloud_free(&skeleton);
@@ -695,12 +693,28 @@ static void test_end_smoothing(void **state)
 {
 	(void)state;
 	double inside_off, leaning_off, inside_on, leaning_on;
-	plate(0.0, &inside_off, &leaning_off);
-	plate(2.0, &inside_on, &leaning_on);
+	size_t moved;
+	/* the smoothing alone: the sheet step would move the points counted
+	 * inside out to the plate's faces */
+	plate(0.0, 0, &inside_off, &leaning_off, &moved);
+	plate(2.0, 0, &inside_on, &leaning_on, &moved);
 	assert_true(leaning_off > 0.05);
 	assert_true(inside_off > 0.015);
 	assert_true(inside_on < 0.015);
 	assert_true(leaning_on < 0.03);
+}
+
+/* The same plate without the smoothing, with the sheet step of the stage's
+ * end (host/stages/sheet_points.h): the points stranded in the mid-plane
+ * leave it. */
+static void test_sheet_points(void **state)
+{
+	(void)state;
+	double inside, leaning;
+	size_t moved;
+	plate(0.0, 1, &inside, &leaning, &moved);
+	assert_true(moved > 0);
+	assert_true(inside < 0.005);
 }
 
 /* Bad arguments fail with one message, without touching the output. */
@@ -786,7 +800,7 @@ int main(void)
 		cmocka_unit_test(test_torus_one_sided),  cmocka_unit_test(test_backends_agree),
 		cmocka_unit_test(test_priors),           cmocka_unit_test(test_slide_reach),
 		cmocka_unit_test(test_escape),           cmocka_unit_test(test_end_smoothing),
-		cmocka_unit_test(test_errors),
+		cmocka_unit_test(test_sheet_points),     cmocka_unit_test(test_errors),
 	};
 	int rc = cmocka_run_group_tests(tests, NULL, NULL);
 	tk_teardown_contexts(NULL);

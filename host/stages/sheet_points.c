@@ -23,6 +23,11 @@
 /* A point farther than this (in r) from the sheet's plane is off the sheet:
  * an oblique deep point to a body's surface, not a point in a plate. */
 #define SHEET_OFF_R 0.5
+/* A point whose foot on the sheet's plane has no spot within this (in r) lies
+ * beyond the sheet's edge: a plate's rim face, whose deep points run along
+ * the sheet outwards by right (a medial sheet ends half a thickness inside
+ * the rim). */
+#define SHEET_OVER_R 1.0
 /* Closer than this to the plane (in r), the side is the less sampled face. */
 #define SHEET_SIDE_R 0.3
 /* The faces are sampled around h ± SHEET_FACE_R r s, within SHEET_COUNT_R r. */
@@ -75,7 +80,7 @@ dp_status dp_sheet_points_lift(const dp_sheet_points_args *a, size_t *moved, dp_
 	dp_kdtree spots = {0}, surface = {0};
 	uint32_t *idx = dp_alloc_array(SHEET_CAP, sizeof *idx);
 	float *d2 = dp_alloc_array(SHEET_CAP, sizeof *d2), *lengths = dp_alloc_array(SHEET_CAP, sizeof *lengths);
-	float *to_x = a->to_x, *to_y = a->to_y, *to_z = a->to_z, *side_of = a->chosen;
+	float *to_x = a->to_x, *to_y = a->to_y, *to_z = a->to_z, *chosen = a->chosen;
 	dp_status st = DP_OK;
 	*moved = 0;
 	if (!idx || !d2 || !lengths) {
@@ -86,7 +91,7 @@ dp_status dp_sheet_points_lift(const dp_sheet_points_args *a, size_t *moved, dp_
 	    (st = dp_kdtree_build(&surface, n, a->px, a->py, a->pz, err)) != DP_OK)
 		goto out;
 	for (size_t i = 0; i < n; i++) {
-		side_of[i] = 0.0f;
+		chosen[i] = 0.0f;
 		if (a->eta[i] - 1.0f >= a->held_support)
 			continue;
 		float h[3] = {a->hx[i], a->hy[i], a->hz[i]};
@@ -96,6 +101,10 @@ dp_status dp_sheet_points_lift(const dp_sheet_points_args *a, size_t *moved, dp_
 			continue;
 		double off = v[0] * s[0] + v[1] * s[1] + v[2] * s[2];
 		if (fabs(off) >= SHEET_ALONG_COS * len || fabs(off) > SHEET_OFF_R * r)
+			continue;
+		float over = (float)(SHEET_OVER_R * r);
+		if (!dp_kdtree_any_within(&spots, (float)(a->px[i] - off * s[0]), (float)(a->py[i] - off * s[1]),
+					  (float)(a->pz[i] - off * s[2]), over * over))
 			continue;
 		double side = off > 0.0 ? 1.0 : -1.0;
 		if (fabs(off) < SHEET_SIDE_R * r) {
@@ -116,8 +125,10 @@ dp_status dp_sheet_points_lift(const dp_sheet_points_args *a, size_t *moved, dp_
 			uint32_t o = idx[j];
 			double u[3] = {a->px[o] - a->hx[o], a->py[o] - a->hy[o], a->pz[o] - a->hz[o]};
 			double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-			if (ul > 0.0 && fabs(u[0] * s[0] + u[1] * s[1] + u[2] * s[2]) > SHEET_ACROSS_COS * ul)
-				lengths[across++] = (float)ul;
+			double us = fabs(u[0] * s[0] + u[1] * s[1] + u[2] * s[2]);
+			/* the depth across the sheet, not the length of a leaning deep point */
+			if (ul > 0.0 && us > SHEET_ACROSS_COS * ul)
+				lengths[across++] = (float)us;
 		}
 		if (across < SHEET_MIN_ACROSS)
 			continue;
@@ -130,10 +141,10 @@ dp_status dp_sheet_points_lift(const dp_sheet_points_args *a, size_t *moved, dp_
 		a->nx[i] = (float)(side * s[0]);
 		a->ny[i] = (float)(side * s[1]);
 		a->nz[i] = (float)(side * s[2]);
-		side_of[i] = 1.0f;
+		chosen[i] = 1.0f;
 	}
 	for (size_t i = 0; i < n; i++)
-		if (side_of[i] != 0.0f) {
+		if (chosen[i] != 0.0f) {
 			a->px[i] = to_x[i];
 			a->py[i] = to_y[i];
 			a->pz[i] = to_z[i];

@@ -12,11 +12,12 @@
  * The skeleton knows the plate: the skeleton spots around the point's inner
  * end h form a sheet (smallest eigenvalue of their spread far below the
  * middle one), whose normal s is the plate's. A point without input support
- * that lies within SHEET_OFF_R of the sheet's plane through h, with its deep
- * point within about 45° of the sheet, is moved across it: to
- * h + lateral offset + side · L · s, normal side · s. L is the median length
- * of the nearby deep points that do leave the sheet across it (the plate's
- * half thickness). side is the side of the plane the point already lies on,
+ * that lies within half a spacing of the sheet's plane through h, over the
+ * sheet (a spot near its foot on the plane: a rim face's points, beyond the
+ * sheet's edge, stay), with its deep point within about 45° of the sheet, is
+ * moved across it: to h + lateral offset + side · L · s, normal side · s. L
+ * is the median depth across the sheet of the nearby deep points that do
+ * leave it across (the plate's half thickness). side is the side of the plane the point already lies on,
  * or, right on the plane, the face less sampled around h (the completed one
  * that lacks points). */
 #ifndef DP_STAGES_SHEET_POINTS_H

@@ -743,7 +743,7 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 			 * by 1.6 times), and in r the faces' sampling windows and the
 			 * off-sheet distance are too small (chair flipped 1.29% instead
 			 * of 1.03% over the same six seeds) */
-			.r = st->iterations > 0 ? r * w->spacing[st->iterations] : r,
+			.r = r * w->spacing[st->iterations],
 			.to_x = a[A_EX], .to_y = a[A_EY], .to_z = a[A_EZ], .chosen = a[A_EDIST],
 		};
 		if ((s = dp_sheet_points_lift(&sheet, &st->sheet_points, err)) != DP_OK)
