@@ -116,9 +116,8 @@ void dp_surface_params_default(dp_surface_params *p)
 	p->min_move_r = 0.1;
 	/* Measured over WLOP seeds 1-6 (bench_completion, coverage / flipped
 	 * / spacing variation / 95th percentile): chair 0.965 / 1.46% / 0.22 /
-	 * 0.0136 -> 0.974 / 1.03% / 0.23 / 0.0120, two-view bunny 0.951 /
-	 * 0.42% / 0.25 / 0.042 -> 0.950 / 0.43% / 0.25 / 0.042, one view 0.848
-	 * / 1.45% / 0.53 / 0.046 -> 0.847 / 1.49% / 0.53 / 0.047. */
+	 * 0.0136 -> 0.974 / 1.05% / 0.23 / 0.0120; the one- and two-view
+	 * bunnies unchanged. */
 	p->sheet_points = 1;
 }
 
@@ -741,8 +740,7 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 			.spots = w->skeleton.n, .sx = w->skeleton.x, .sy = w->skeleton.y, .sz = w->skeleton.z,
 			/* the points' spacing now: completion spreads them (the chair's
 			 * by 1.6 times), and in r the faces' sampling windows and the
-			 * off-sheet distance are too small (chair flipped 1.29% instead
-			 * of 1.03% over the same six seeds) */
+			 * off-sheet distance are too small (chair flipped 1.29%) */
 			.r = r * w->spacing[st->iterations],
 			.to_x = a[A_EX], .to_y = a[A_EY], .to_z = a[A_EZ], .chosen = a[A_EDIST],
 		};
