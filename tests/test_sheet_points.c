@@ -41,8 +41,9 @@ static size_t add_point(scene *s, float x, float y, float z, float hx, float hy,
 	return i;
 }
 
-/* The plate; *curve_h receives a spot of a skeletal curve beside it. */
-static void plate(scene *s, float curve_h[3])
+/* The plate, its bottom face sampled every bottom_step r; *curve_h receives
+ * a spot of a skeletal curve beside it. */
+static void plate(scene *s, float curve_h[3], int bottom_step)
 {
 	s->n = s->spots = 0;
 	for (int i = -EXTENT; i <= EXTENT; i++)
@@ -51,8 +52,8 @@ static void plate(scene *s, float curve_h[3])
 			s->sx[k] = (float)(i * R), s->sy[k] = (float)(j * R), s->sz[k] = 0.0f;
 			/* top: held by input */
 			add_point(s, (float)(i * R), (float)(j * R), (float)(HALF * R), s->sx[k], s->sy[k], 0.0f, 20.0f);
-			/* bottom: completed, half as dense */
-			if (i % 2 == 0 && j % 2 == 0)
+			/* bottom: completed */
+			if (i % bottom_step == 0 && j % bottom_step == 0)
 				add_point(s, (float)(i * R), (float)(j * R), (float)(-HALF * R), s->sx[k], s->sy[k], 0.0f,
 					  1.0f);
 		}
@@ -84,7 +85,7 @@ static void test_stranded_points_cross(void **state)
 	(void)state;
 	static scene s;
 	float curve_h[3];
-	plate(&s, curve_h);
+	plate(&s, curve_h, 2);
 	size_t faces = s.n;
 	/* in the mid-plane, deep point along x: the bottom face samples less */
 	size_t mid = add_point(&s, 0.5f, 0.5f, 0.1f, 2.0f, 0.5f, 0.0f, 1.0f);
@@ -131,7 +132,7 @@ static void test_side_by_sampling(void **state)
 	(void)state;
 	static scene s;
 	float curve_h[3];
-	plate(&s, curve_h);
+	plate(&s, curve_h, 2);
 	for (size_t i = 0; i < s.n; i++)
 		s.pz[i] = -s.pz[i], s.nz[i] = -s.nz[i];
 	size_t mid = add_point(&s, 0.5f, 0.5f, -0.1f, 2.0f, 0.5f, 0.0f, 1.0f);
@@ -140,11 +141,53 @@ static void test_side_by_sampling(void **state)
 	assert_float_equal(s.nz[mid], 1.0f, 1e-5);
 }
 
+/* The depth is the median across the sheet: with every face's deep point
+ * leaning (one spot along x; 2.24 r long, 2 r across) and five held points
+ * nearby whose deep points reach 9 r across, the mid-plane point still lands
+ * on the face, 2 r down (a mean would put it 2.7 r down, whole lengths 2.24 r). */
+static void test_depth_is_median_across(void **state)
+{
+	(void)state;
+	static scene s;
+	float curve_h[3];
+	plate(&s, curve_h, 2);
+	size_t faces = s.n;
+	for (size_t i = 0; i < faces; i++) {
+		float lean = s.pz[i] > 0.0f ? -1.0f : 1.0f;
+		if (fabsf(s.hx[i] + lean) <= EXTENT * R)
+			s.hx[i] += lean * (float)R;
+	}
+	for (int k = 0; k < 5; k++)
+		add_point(&s, (float)(-0.5 - 0.25 * k), 0.5f, 1.0f, (float)(-0.5 - 0.25 * k), 0.5f, -8.0f, 20.0f);
+	size_t mid = add_point(&s, 0.5f, 0.5f, 0.1f, 2.0f, 0.5f, 0.0f, 1.0f);
+	assert_int_equal(lift(&s), 1);
+	assert_float_equal(s.pz[mid], -HALF * R, 1e-4);
+}
+
+/* Faces sampled alike: the point goes to the face it lies towards, however
+ * close to the plane, whichever sign the sheet's normal came out with. */
+static void test_tie_goes_to_its_side(void **state)
+{
+	(void)state;
+	static scene s;
+	float curve_h[3];
+	plate(&s, curve_h, 1);
+	size_t up = add_point(&s, 0.5f, 0.5f, 0.05f, 2.0f, 0.5f, 0.0f, 1.0f);
+	size_t down = add_point(&s, -4.5f, -4.5f, -0.05f, -6.0f, -4.5f, 0.0f, 1.0f);
+	assert_int_equal(lift(&s), 2);
+	assert_float_equal(s.pz[up], HALF * R, 1e-4);
+	assert_float_equal(s.nz[up], 1.0f, 1e-5);
+	assert_float_equal(s.pz[down], -HALF * R, 1e-4);
+	assert_float_equal(s.nz[down], -1.0f, 1e-5);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_stranded_points_cross),
 		cmocka_unit_test(test_side_by_sampling),
+		cmocka_unit_test(test_depth_is_median_across),
+		cmocka_unit_test(test_tie_goes_to_its_side),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

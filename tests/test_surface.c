@@ -626,7 +626,8 @@ static void test_escape(void **state)
  * normal and the slide, lean into the plate. */
 #define PLATE_T 0.125
 #define CLUMP_R 3.0
-static void plate(double end_smoothing_r, int sheet_points, double *inside_frac, double *leaning_frac, size_t *moved)
+static void plate(double end_smoothing_r, int sheet_points, int max_iters, double *inside_frac, double *leaning_frac,
+		  size_t *moved)
 {
 	dp_rng rng;
 	dp_rng_seed(&rng, 31);
@@ -662,6 +663,8 @@ static void plate(double end_smoothing_r, int sheet_points, double *inside_frac,
 	dp_surface_params_default(&p);
 	p.end_smoothing_r = end_smoothing_r;
 	p.sheet_points = sheet_points;
+	if (max_iters >= 0)
+		p.max_iters = max_iters;
 	dp_surface_stats st;
 	if (dp_surface(tk_cl_context(), &input, &samples, &skeleton, NULL, r, &p, &out, NULL, &st, &err) != DP_OK)
 		fail_msg("dp_surface: %s", err.message);
@@ -696,8 +699,8 @@ static void test_end_smoothing(void **state)
 	size_t moved;
 	/* the smoothing alone: the sheet step would move the points counted
 	 * inside out to the plate's faces */
-	plate(0.0, 0, &inside_off, &leaning_off, &moved);
-	plate(2.0, 0, &inside_on, &leaning_on, &moved);
+	plate(0.0, 0, -1, &inside_off, &leaning_off, &moved);
+	plate(2.0, 0, -1, &inside_on, &leaning_on, &moved);
 	assert_true(leaning_off > 0.05);
 	assert_true(inside_off > 0.015);
 	assert_true(inside_on < 0.015);
@@ -712,9 +715,13 @@ static void test_sheet_points(void **state)
 	(void)state;
 	double inside, leaning;
 	size_t moved;
-	plate(0.0, 1, &inside, &leaning, &moved);
+	plate(0.0, 1, -1, &inside, &leaning, &moved);
 	assert_true(moved > 0);
 	assert_true(inside < 0.005);
+	/* with no iteration there is no data weight or spacing to read: the
+	 * step does nothing */
+	plate(0.0, 1, 0, &inside, &leaning, &moved);
+	assert_int_equal(moved, 0);
 }
 
 /* Bad arguments fail with one message, without touching the output. */

@@ -114,9 +114,12 @@ dp_status dp_sheet_points_lift(const dp_sheet_points_args *a, size_t *moved, dp_
 				down[c] = h[c] - SHEET_FACE_R * r * s[c];
 			}
 			float reach = (float)(SHEET_COUNT_R * r);
-			side = count_within(&surface, up, reach, idx, d2) <= count_within(&surface, down, reach, idx, d2)
-				       ? 1.0
-				       : -1.0;
+			size_t n_up = count_within(&surface, up, reach, idx, d2);
+			size_t n_down = count_within(&surface, down, reach, idx, d2);
+			/* on a tie, the side it lies towards: s's sign is the
+			 * eigen-solver's */
+			if (n_up != n_down)
+				side = n_up < n_down ? 1.0 : -1.0;
 		}
 		float reach = (float)(SHEET_LENGTH_R * r);
 		size_t k = dp_kdtree_nearest_within(&surface, a->px[i], a->py[i], a->pz[i], reach * reach, SHEET_CAP,

@@ -19,7 +19,7 @@
  * is the median depth across the sheet of the nearby deep points that do
  * leave it across (the plate's half thickness). side is the side of the plane the point already lies on,
  * or, right on the plane, the face less sampled around h (the completed one
- * that lacks points). */
+ * that lacks points); on a tie, the side it lies on after all. */
 #ifndef DP_STAGES_SHEET_POINTS_H
 #define DP_STAGES_SHEET_POINTS_H
 

@@ -731,9 +731,15 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 	}
 	if (st->iterations > 0)
 		st->spacing_growth = w->spacing[st->iterations] / w->spacing[1];
+	/* η of the final positions: the sheet step reads it, and the caller
+	 * gets it. */
+	lengths(w, n, r, p->same_side);
+	if ((s = dp_op_surface_data(ctx, &data, err)) != DP_OK)
+		return s;
+	/* Without an iteration the spacing is unmeasured and the normals are
+	 * the samples'. */
 	if (p->sheet_points && st->iterations > 0) {
-		/* A_E and A_EDIST are free once the iterations are over; η is the
-		 * last iteration's (none without an iteration) */
+		/* A_E and A_EDIST are free once the iterations are over */
 		dp_sheet_points_args sheet = {
 			.n = n, .px = a[A_PX], .py = a[A_PY], .pz = a[A_PZ], .nx = a[A_NX], .ny = a[A_NY], .nz = a[A_NZ],
 			.hx = a[A_HX], .hy = a[A_HY], .hz = a[A_HZ], .eta = a[A_ETA], .held_support = HELD_SUPPORT,
@@ -746,10 +752,12 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		};
 		if ((s = dp_sheet_points_lift(&sheet, &st->sheet_points, err)) != DP_OK)
 			return s;
+		if (st->sheet_points > 0) {
+			lengths(w, n, r, p->same_side);
+			return dp_op_surface_data(ctx, &data, err);
+		}
 	}
-	/* η of the final positions. */
-	lengths(w, n, r, p->same_side);
-	return dp_op_surface_data(ctx, &data, err);
+	return DP_OK;
 }
 
 dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
