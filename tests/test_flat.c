@@ -2,7 +2,7 @@
  * answer is known: a flat face takes the median depth of the evidence at its
  * rim, a curved one does not pass it on beyond the angle, and only points
  * that stopped without evidence (slow-down, the width bound) ever move, never
- * deeper. */
+ * deeper; a rounded crease's samples stop on the face's medial plane. */
 #include "testkit.h"
 
 #include "stages/flat.h"
@@ -285,6 +285,63 @@ static void test_nothing(void **state)
 	}
 }
 
+/* A 31 x 31 face at spacing 1 facing up, every sample on evidence at depth
+ * 2, and beyond its y = 30 edge the rounded crease to a wall: a row at
+ * y = 31 whose normals are turned 30 degrees towards -y, another at y = 32
+ * turned 70 degrees, both stopped by slow-down 8 deep, with one 30-degree
+ * sample stopped at 1.5. The 30-degree row meets the face's medial plane
+ * z = -2 at depth 2 / cos 30 (not at its neighbours' depth 2); the
+ * 70-degree row has no face within 60 degrees and stays; the shallow one
+ * stays. */
+static void test_crease(void **state)
+{
+	(void)state;
+	pts s;
+	int side = 31;
+	pts_alloc(&s, (size_t)side * (side + 2));
+	double up[3] = {0, 0, 1};
+	double a30 = 30.0 * M_PI / 180.0, a70 = 70.0 * M_PI / 180.0;
+	double n30[3] = {0, -sin(a30), cos(a30)}, n70[3] = {0, -sin(a70), cos(a70)};
+	size_t k = 0, shallow = 0;
+	for (int i = 0; i < side; i++)
+		for (int j = 0; j < side; j++) {
+			double p[3] = {i, j, 0};
+			set(&s, k++, p, up, 2.0, DP_SETTLE_FRONT);
+		}
+	size_t row30 = k;
+	for (int i = 0; i < side; i++) {
+		double p[3] = {i, side, 0};
+		if (i == side / 2)
+			shallow = k;
+		set(&s, k++, p, n30, i == side / 2 ? 1.5 : 8.0, DP_SETTLE_SLOW);
+	}
+	size_t row70 = k;
+	for (int i = 0; i < side; i++) {
+		double p[3] = {i, side + 1, 0};
+		set(&s, k++, p, n70, 8.0, DP_SETTLE_SLOW);
+	}
+	size_t capped = run(&s, 10.0);
+	double want = 2.0 / cos(a30);
+	printf("  crease: %zu capped, the 30-degree row at %.3f (the face's plane: %.3f)\n", capped,
+	       depth(&s, row30 + 3), want);
+	assert_int_equal(capped, (size_t)side - 1);
+	for (int i = 0; i < side; i++) {
+		size_t a = row30 + (size_t)i, b = row70 + (size_t)i;
+		if (a == shallow) {
+			assert_int_equal(s.why[a], DP_SETTLE_SLOW);
+			assert_true(fabs(depth(&s, a) - 1.5) < 1e-5);
+		} else {
+			assert_int_equal(s.why[a], DP_SETTLE_FLAT);
+			assert_true(fabs(depth(&s, a) - want) < 1e-3);
+			/* along its own line */
+			assert_true(fabsf(s.q[0][a] - s.p[0][a]) < 1e-5f);
+		}
+		assert_int_equal(s.why[b], DP_SETTLE_SLOW);
+		assert_true(fabs(depth(&s, b) - 8.0) < 1e-5);
+	}
+	pts_free(&s);
+}
+
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
@@ -293,6 +350,7 @@ int main(void)
 		cmocka_unit_test(test_curved),
 		cmocka_unit_test(test_order_bend),
 		cmocka_unit_test(test_nothing),
+		cmocka_unit_test(test_crease),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);
 }

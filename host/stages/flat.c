@@ -261,6 +261,81 @@ int dp_flat_too_deep(const dp_flat *f, float *const q[3], size_t i, float past)
 	return 1;
 }
 
+typedef struct cross_job {
+	dp_flat *f;
+	float *const *q;
+	const unsigned char *settled_by;
+} cross_job;
+
+static void cross_range(void *arg, size_t begin, size_t end, int part)
+{
+	(void)part;
+	const cross_job *job = arg;
+	dp_flat *f = job->f;
+	const float *const *p = f->p, *const *normal = f->normal;
+	float *const *q = job->q;
+	int k = f->k;
+	float t[DP_FLAT_NEIGHBOURS];
+	for (size_t i = begin; i < end; i++) {
+		f->cross[i] = INFINITY;
+		unsigned char why = job->settled_by[i];
+		if (why != DP_SETTLE_SLOW && why != DP_SETTLE_WIDTH)
+			continue;
+		int nt = 0;
+		for (int m = 0; m < k; m++) {
+			size_t slot = i * (size_t)k + (size_t)m;
+			int j = f->idx[slot];
+			if (j < 0 || !(f->d2[slot] <= f->link2))
+				break; /* ascending: the rest are farther */
+			unsigned char wj = job->settled_by[j];
+			if (wj != DP_SETTLE_FRONT && wj != DP_SETTLE_MEDIAL && wj != DP_SETTLE_FLAT)
+				continue;
+			/* a face turned from i's normal by more than the angle (one
+			 * within it would have passed its depth on) and at most
+			 * about 60 degrees */
+			float c = cosine(normal, i, (size_t)j);
+			if (c < DP_FLAT_CROSS_COS || c >= f->min_cos)
+				continue;
+			/* where i's line p - t n_i meets the plane through j's inner
+			 * point across n_j */
+			float ahead = 0.0f;
+			for (int d = 0; d < 3; d++)
+				ahead += (p[d][i] - q[d][j]) * normal[d][j];
+			if (ahead > 0.0f)
+				t[nt++] = ahead / c;
+		}
+		if (nt < DP_FLAT_CROSS_MIN)
+			continue;
+		for (int a = 1; a < nt; a++)
+			for (int b = a; b > 0 && t[b - 1] > t[b]; b--) {
+				float x = t[b];
+				t[b] = t[b - 1];
+				t[b - 1] = x;
+			}
+		f->cross[i] = t[nt / 2];
+	}
+}
+
+size_t dp_flat_cross(dp_flat *f, int threads, float *const q[3], unsigned char *settled_by)
+{
+	if (f->n < 2)
+		return 0;
+	cross_job job = {f, q, settled_by};
+	dp_parallel_for(threads, f->n, FLAT_MIN_ITEMS, cross_range, &job);
+	size_t moved = 0;
+	for (size_t i = 0; i < f->n; i++) {
+		float d = depth(f->p, q, i);
+		if (!(f->cross[i] < d))
+			continue; /* never deeper */
+		float s = f->cross[i] / d;
+		for (int c = 0; c < 3; c++)
+			q[c][i] = f->p[c][i] + (q[c][i] - f->p[c][i]) * s;
+		settled_by[i] = DP_SETTLE_FLAT;
+		moved++;
+	}
+	return moved;
+}
+
 void dp_flat_free(dp_flat *f)
 {
 	dp_kdtree_free(&f->tree);
@@ -269,6 +344,7 @@ void dp_flat_free(dp_flat *f)
 	free(f->half);
 	free(f->face_half);
 	free(f->cap);
+	free(f->cross);
 	free(f->origin);
 	free(f->done);
 	free(f->heap);
@@ -296,6 +372,7 @@ dp_status dp_flat_init(dp_flat *f, int threads, size_t n, const float *const p[3
 	f->half = dp_alloc_array(n, sizeof(float));
 	f->face_half = dp_alloc_array(n, sizeof(float));
 	f->cap = dp_alloc_array(n, sizeof(float));
+	f->cross = dp_alloc_array(n, sizeof(float));
 	f->origin = dp_alloc_array(n, sizeof(uint32_t));
 	f->done = malloc(n);
 	/* every sample enters once as an origin or once per link that lowers it */
@@ -306,7 +383,7 @@ dp_status dp_flat_init(dp_flat *f, int threads, size_t n, const float *const p[3
 	f->svalue = dp_alloc_array(DP_PARALLEL_MAX, DP_FLAT_BAND_COUNT * sizeof(float));
 	dp_knn knn = {0};
 	dp_status st = DP_OK;
-	if (!f->idx || !f->d2 || !f->half || !f->face_half || !f->cap || !f->origin || !f->done || !f->heap ||
+	if (!f->idx || !f->d2 || !f->half || !f->face_half || !f->cap || !f->cross || !f->origin || !f->done || !f->heap ||
 	    !f->sidx || !f->sd2 || !f->svalue) {
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for the flat-face depths of %zu points", n);
 		goto out;
@@ -347,6 +424,7 @@ dp_status dp_flat_cap(int threads, size_t n, const float *const p[3], const floa
 			settled_by[i] = DP_SETTLE_FLAT;
 			(*capped)++;
 		}
+	*capped += dp_flat_cross(&f, threads, q, settled_by);
 	dp_flat_free(&f);
 	return DP_OK;
 }

@@ -537,22 +537,25 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 	if (st->flat_on) {
 		/* Every point that stopped without evidence (slow-down, the width
 		 * bound, a plate's band) takes its face's depth from all the
-		 * evidence now; the first two were counted where they first
-		 * stopped, and move to the flat count. */
+		 * evidence now, and the counts are taken again at the end. */
 		dp_flat_update(&st->flat, ctx->threads, st->q, st->settled);
-		size_t n_slow = 0, n_width = 0;
 		for (size_t i = 0; i < st->n; i++) {
 			unsigned char why = st->settled[i];
 			int blind = why == DP_SETTLE_SLOW || why == DP_SETTLE_WIDTH || why == DP_SETTLE_FLAT;
-			if (blind && dp_flat_too_deep(&st->flat, st->q, i, 1.0f) && why != DP_SETTLE_FLAT) {
-				why = st->settled[i] = DP_SETTLE_FLAT;
-				stats->settled_flat++;
-			}
-			n_slow += why == DP_SETTLE_SLOW;
-			n_width += why == DP_SETTLE_WIDTH;
+			if (blind && dp_flat_too_deep(&st->flat, st->q, i, 1.0f))
+				st->settled[i] = DP_SETTLE_FLAT;
+		}
+		/* the crease samples beside the faces, which no face depth reached */
+		dp_flat_cross(&st->flat, ctx->threads, st->q, st->settled);
+		size_t n_slow = 0, n_width = 0, n_flat = 0;
+		for (size_t i = 0; i < st->n; i++) {
+			n_slow += st->settled[i] == DP_SETTLE_SLOW;
+			n_width += st->settled[i] == DP_SETTLE_WIDTH;
+			n_flat += st->settled[i] == DP_SETTLE_FLAT;
 		}
 		stats->settled_slow = n_slow;
 		stats->settled_width = n_width;
+		stats->settled_flat = n_flat;
 	}
 	return rc;
 }
