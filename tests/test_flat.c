@@ -285,51 +285,81 @@ static void test_nothing(void **state)
 	}
 }
 
-/* A 31 x 31 face at spacing 1 facing up, every sample on evidence at depth
- * 2, and beyond its y = 30 edge the rounded crease to a wall: a row at
- * y = 31 whose normals are turned 30 degrees towards -y, another at y = 32
- * turned 70 degrees, both stopped by slow-down 8 deep, with one 30-degree
- * sample stopped at 1.5. The 30-degree row meets the face's medial plane
- * z = -2 at depth 2 / cos 30 (not at its neighbours' depth 2); the
- * 70-degree row has no face within 60 degrees and stays; the shallow one
- * stays. */
+/* A 31 x 31 face at spacing 1 facing up, on evidence at depth 2 but for its
+ * next-to-last row, at 6 (the median, not the mean or the deepest, of the
+ * crossings counts), and with the last two rows' samples from x = 20 on
+ * stopped by slow-down 8 deep, which the face's depth caps to 2 first (faces
+ * settled on their face count). Beyond its y = 30 edge the rounded crease to
+ * a wall: a row at y = 31 whose normals are turned 30 degrees towards -y,
+ * stopped by slow-down 8 deep (one by the width bound, one at 1.5, one
+ * smoothed 10 degrees off its normal's line), and another at y = 32 turned
+ * 70 degrees. The 30-degree row meets the face's medial plane z = -2 at
+ * depth 2 / cos 30 (not at its neighbours' depth 2); the smoothed one meets
+ * it along its own line; the 70-degree row has no face within 60 degrees and
+ * stays; the shallow one stays. Apart, a 30-degree sample beside only two
+ * face samples stays. */
 static void test_crease(void **state)
 {
 	(void)state;
 	pts s;
-	int side = 31;
-	pts_alloc(&s, (size_t)side * (side + 2));
+	int side = 31, slow_from = 20;
+	pts_alloc(&s, (size_t)side * (side + 2) + 3);
 	double up[3] = {0, 0, 1};
-	double a30 = 30.0 * M_PI / 180.0, a70 = 70.0 * M_PI / 180.0;
+	double a30 = 30.0 * M_PI / 180.0, a40 = 40.0 * M_PI / 180.0, a70 = 70.0 * M_PI / 180.0;
 	double n30[3] = {0, -sin(a30), cos(a30)}, n70[3] = {0, -sin(a70), cos(a70)};
-	size_t k = 0, shallow = 0;
+	size_t k = 0, shallow = 0, smoothed = 0;
 	for (int i = 0; i < side; i++)
 		for (int j = 0; j < side; j++) {
 			double p[3] = {i, j, 0};
-			set(&s, k++, p, up, 2.0, DP_SETTLE_FRONT);
+			if (j >= side - 2 && i >= slow_from)
+				set(&s, k++, p, up, 8.0, DP_SETTLE_SLOW);
+			else
+				set(&s, k++, p, up, j == side - 2 ? 6.0 : 2.0, DP_SETTLE_FRONT);
 		}
 	size_t row30 = k;
 	for (int i = 0; i < side; i++) {
 		double p[3] = {i, side, 0};
 		if (i == side / 2)
 			shallow = k;
-		set(&s, k++, p, n30, i == side / 2 ? 1.5 : 8.0, DP_SETTLE_SLOW);
+		if (i == 7)
+			smoothed = k;
+		set(&s, k, p, n30, i == side / 2 ? 1.5 : 8.0, i == 3 ? DP_SETTLE_WIDTH : DP_SETTLE_SLOW);
+		if (i == 7) {
+			s.q[1][k] = (float)(p[1] + 8.0 * sin(a40));
+			s.q[2][k] = (float)(p[2] - 8.0 * cos(a40));
+		}
+		k++;
 	}
 	size_t row70 = k;
 	for (int i = 0; i < side; i++) {
 		double p[3] = {i, side + 1, 0};
 		set(&s, k++, p, n70, 8.0, DP_SETTLE_SLOW);
 	}
+	size_t apart = k;
+	double f0[3] = {100, 0, 0}, f1[3] = {101, 0, 0}, c[3] = {100.5, 1, 0};
+	set(&s, k++, f0, up, 2.0, DP_SETTLE_FRONT);
+	set(&s, k++, f1, up, 2.0, DP_SETTLE_FRONT);
+	set(&s, k++, c, n30, 8.0, DP_SETTLE_SLOW);
 	size_t capped = run(&s, 10.0);
 	double want = 2.0 / cos(a30);
 	printf("  crease: %zu capped, the 30-degree row at %.3f (the face's plane: %.3f)\n", capped,
 	       depth(&s, row30 + 3), want);
-	assert_int_equal(capped, (size_t)side - 1);
+	assert_int_equal(capped, (size_t)(side - 1 + 2 * (side - slow_from)));
+	for (int i = slow_from; i < side; i++)
+		for (int j = side - 2; j < side; j++) {
+			size_t f = (size_t)i * (size_t)side + (size_t)j;
+			assert_int_equal(s.why[f], DP_SETTLE_FLAT);
+			assert_true(fabs(depth(&s, f) - 2.0) < 1e-3);
+		}
 	for (int i = 0; i < side; i++) {
 		size_t a = row30 + (size_t)i, b = row70 + (size_t)i;
 		if (a == shallow) {
 			assert_int_equal(s.why[a], DP_SETTLE_SLOW);
 			assert_true(fabs(depth(&s, a) - 1.5) < 1e-5);
+		} else if (a == smoothed) {
+			assert_int_equal(s.why[a], DP_SETTLE_FLAT);
+			assert_true(fabs(s.q[2][a] + 2.0f) < 1e-3f);
+			assert_true(fabs(depth(&s, a) - 2.0 / cos(a40)) < 1e-3);
 		} else {
 			assert_int_equal(s.why[a], DP_SETTLE_FLAT);
 			assert_true(fabs(depth(&s, a) - want) < 1e-3);
@@ -339,6 +369,8 @@ static void test_crease(void **state)
 		assert_int_equal(s.why[b], DP_SETTLE_SLOW);
 		assert_true(fabs(depth(&s, b) - 8.0) < 1e-5);
 	}
+	assert_int_equal(s.why[apart + 2], DP_SETTLE_SLOW);
+	assert_true(fabs(depth(&s, apart + 2) - 8.0) < 1e-5);
 	pts_free(&s);
 }
 

@@ -524,13 +524,15 @@ DP_API dp_status dp_estimate_normals(dp_cloud *cloud, const dp_normal_params *pa
  *     overshoots a plate's middle, and along a crease its normals are turned
  *     too far to read the band (the seat's 3.5 r and the back rest's 3.2-3.8 r
  *     for a half thickness of 2.1 r; with the band 2.1-2.2 r and 1.9 r).
- *     A sample along a rounded crease, its normal turned beyond
- *     flat_angle_deg from the faces beside it (at most about 60 degrees),
- *     that stopped without evidence takes at most the depth where its line
- *     meets those faces' medial planes (the planes through their samples'
- *     inner points across their normals; the median over the faces' samples
- *     within 2.5 r): the demo chair's seat samples along the back rest sank
- *     4-5 r along the crease's bisector to the seat's far face.
+ *     A sample along a rounded crease, stopped by slow-down or the width
+ *     bound and reached by no face depth, takes at most the depth where its
+ *     line from p_i through q_i crosses the medial planes of the faces
+ *     beside it (the planes through their samples' inner points across
+ *     their normals; the median over at least 3 samples within 2.5 r that
+ *     stopped on evidence or on their face's depth, with normals turned from
+ *     its own beyond flat_angle_deg and by at most 60 degrees, so nothing
+ *     at flat_angle_deg >= 60): the demo chair's seat samples along the back
+ *     rest sank 4-5 r along the crease's bisector to the seat's far face.
  */
 typedef struct dp_sink_params {
 	double sigma_p;          /* static neighbourhood radius σp, in r; default 5 */
@@ -564,7 +566,8 @@ typedef struct dp_sink_stats {
 	size_t settled_width;    /* settled by the width bound (and left there by step 5) */
 	size_t settled_slow;     /* settled by slow-down (and left there by step 5) */
 	size_t settled_flat;     /* settled by step 1e, or by slow-down or the width bound and then given a flat
-	                            face's depth (step 5); settled_slow and settled_width count the rest */
+	                            face's or a crease's depth (step 5); settled_slow and settled_width count the
+	                            rest */
 	size_t unsettled;        /* still moving when max_iters stopped the loop */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
@@ -578,7 +581,7 @@ typedef enum dp_settle {
 	DP_SETTLE_WIDTH = 3,  /* as deep as its part is wide (1c) */
 	DP_SETTLE_SLOW = 4,   /* slowed down with its neighbours, or stalled (2) */
 	DP_SETTLE_FLAT = 5    /* past its plate's far face (1e), or slowed down or width-bound, then given its
-	                         flat face's depth (5) */
+	                         flat face's or its crease's depth (5) */
 } dp_settle;
 
 /*

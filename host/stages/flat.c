@@ -281,6 +281,12 @@ static void cross_range(void *arg, size_t begin, size_t end, int part)
 		unsigned char why = job->settled_by[i];
 		if (why != DP_SETTLE_SLOW && why != DP_SETTLE_WIDTH)
 			continue;
+		/* the point moves along its own line from p_i through q_i, which
+		 * the smoothing has turned a little off -n_i */
+		float dq = depth(p, q, i);
+		if (!(dq > 0.0f))
+			continue;
+		float u[3] = {(q[0][i] - p[0][i]) / dq, (q[1][i] - p[1][i]) / dq, (q[2][i] - p[2][i]) / dq};
 		int nt = 0;
 		for (int m = 0; m < k; m++) {
 			size_t slot = i * (size_t)k + (size_t)m;
@@ -294,25 +300,21 @@ static void cross_range(void *arg, size_t begin, size_t end, int part)
 			 * within it would have passed its depth on) and at most
 			 * about 60 degrees */
 			float c = cosine(normal, i, (size_t)j);
-			if (c < DP_FLAT_CROSS_COS || c >= f->min_cos)
+			if (!(c >= DP_FLAT_CROSS_COS && c < f->min_cos))
 				continue;
-			/* where i's line p - t n_i meets the plane through j's inner
-			 * point across n_j */
-			float ahead = 0.0f;
-			for (int d = 0; d < 3; d++)
+			/* where the line meets the plane through j's inner point
+			 * across n_j, crossing it no more obliquely than the faces
+			 * are turned */
+			float ahead = 0.0f, along = 0.0f;
+			for (int d = 0; d < 3; d++) {
 				ahead += (p[d][i] - q[d][j]) * normal[d][j];
-			if (ahead > 0.0f)
-				t[nt++] = ahead / c;
-		}
-		if (nt < DP_FLAT_CROSS_MIN)
-			continue;
-		for (int a = 1; a < nt; a++)
-			for (int b = a; b > 0 && t[b - 1] > t[b]; b--) {
-				float x = t[b];
-				t[b] = t[b - 1];
-				t[b - 1] = x;
+				along -= u[d] * normal[d][j];
 			}
-		f->cross[i] = t[nt / 2];
+			if (ahead > 0.0f && along >= DP_FLAT_CROSS_COS)
+				t[nt++] = ahead / along;
+		}
+		if (nt >= DP_FLAT_CROSS_MIN)
+			f->cross[i] = median(t, (size_t)nt);
 	}
 }
 

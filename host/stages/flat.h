@@ -83,8 +83,8 @@
  * context (dp_flat) builds them once per run; the rim's evidence joins only
  * after the loop, as it is no measure of a plate while fronts are still
  * meeting (a closed cylinder's side would stop at the depth of its crease
- * with the end cap). */
-/*
+ * with the end cap).
+ *
  * A crease between a flat face and the next is rounded: WLOP and PCA turn
  * the normals of the samples along it halfway round, so no face depth
  * reaches them (their normals are beyond the angle), no front stops them
@@ -93,30 +93,29 @@
  * deep points): the seat's top samples within 1.5 r of the back rest, their
  * normals turned 10-45 degrees towards the seat, settled by slow-down 4-5 r
  * deep at the seat's bottom face (anchors' median height 0.907; the seat
- * spans 0.90-0.98, its mid-plane 0.94), some outside it, and the surface
- * points hung on them filled the solid corner under the back rest with
- * normals pointing anywhere: over half the chair's flipped normals lay in
- * that corner. The faces around a crease sample still say where the middle
- * is: each evidence- or face-settled sample within DP_FLAT_LINK_R whose
- * normal is within DP_FLAT_CROSS_COS of the crease sample's has its inner
- * point on its face's medial plane (the plane through it across its
- * normal), and the crease sample's line meets that plane at a depth (ahead /
- * cosine). A sample that stopped without evidence takes the median of those
- * depths over at least DP_FLAT_CROSS_MIN such neighbours when it is
- * shallower than its own (the chair's crease anchors: median height 0.932).
- * On a sphere every neighbour's plane passes through the centre, where the
- * line meets it too: the depth is R. Only faces turned by more than the
- * angle count: one within it would have passed its depth on, and counting
- * those let a shallow face depth spread a ring further on a curved surface.
- * Measured at the defaults (bench_completion, WLOP seeds 1-12; README
- * (30)): the 95th percentile accuracy improved on every case on two
- * machines (the chair 0.0121 -> 0.0116, the one-view bunny 0.0442 ->
- * 0.0431, the two views 0.0437 -> 0.0423), the flipped normals moved within
- * the seeds' spread (-0.11% to +0.06%), and the anchors outside the true
- * body at seed 1 went chair 63 -> 53, one view 165 -> 156, two views 153 ->
- * 140; the one view's 385 crease anchors went from a median 6.0 r deep to
- * 3.7 r.
- */
+ * spans 0.90-0.98, its mid-plane 0.94), some outside it. The faces around a
+ * crease sample still say where the middle is: the inner point of each
+ * sample within DP_FLAT_LINK_R settled on evidence or on its face's depth
+ * is taken to lie on its face's medial plane (the plane through it across
+ * its normal), and the crease sample's line, from p through q, crosses that
+ * plane at some depth. A sample stopped by slow-down or the width bound that
+ * no face depth reached takes the median of those depths when it is
+ * shallower than its own (a rim's evidence that overshoots the middle is one
+ * of several), over at least DP_FLAT_CROSS_MIN faces turned from its normal
+ * by more than the angle and by at most 60 degrees: one within the angle
+ * would have passed its depth on, and counting those let a shallow face
+ * depth spread a ring further on a curved surface. So the rule does nothing
+ * at flat angles of 60 degrees and more. On a sphere every neighbour's plane
+ * passes through the centre, where the line meets it too: the depth is R
+ * (the chair's crease anchors: median height 0.932). Measured at the
+ * defaults (bench_completion, WLOP seeds 1-12; README (30)): the 95th
+ * percentile accuracy improved on every case on two machines (this one:
+ * the chair 0.0121 -> 0.0116, the one-view bunny 0.0442 -> 0.0431, the two
+ * views 0.0437 -> 0.0423), the flipped normals moved within the seeds'
+ * spread (-0.11% to +0.06%; the chair's corner did not improve), and the
+ * anchors outside the true body at seed 1 went chair 63 -> 53, one view 165
+ * -> 156, two views 153 -> 140; the one view's 385 crease anchors went from
+ * a median 6.0 r deep to 3.7 r. */
 #ifndef DP_STAGES_FLAT_H
 #define DP_STAGES_FLAT_H
 
@@ -156,9 +155,10 @@
  * samples within DP_FLAT_RIM_R facing its way (a flat face, not a rounded
  * part whose far side is turned a right angle away). */
 #define DP_FLAT_FACE_FRACTION 0.5
-/* A crease sample's faces are its link neighbours turned within about 60
- * degrees of its normal (and beyond the angle); it needs this many. */
+/* A crease sample's faces are turned from its normal by at most 60 degrees
+ * (this cosine), and its line crosses their planes no more obliquely. */
 #define DP_FLAT_CROSS_COS 0.5f
+/* ... and it needs at least this many of them. */
 #define DP_FLAT_CROSS_MIN 3
 
 /* The samples' fixed part of the face depths, kept across the iterations of
@@ -174,7 +174,7 @@ typedef struct dp_flat {
 	float *half;                  /* the band's half height beside each sample, or INFINITY */
 	float *face_half;             /* its median over the facing samples around, or INFINITY */
 	float *cap;                   /* the face depth that reached each sample, or INFINITY */
-	float *cross;                 /* the depth its faces' medial planes give (dp_flat_cross) */
+	float *cross;                 /* the depth its faces' medial planes give (dp_flat_cross), or INFINITY */
 	uint32_t *origin;             /* the sample it came from */
 	unsigned char *done;
 	struct entry *heap;
@@ -197,11 +197,14 @@ void dp_flat_update(dp_flat *f, int threads, float *const q[3], const unsigned c
  * depth that reached it at the last update; if so it moves up to that depth
  * along its line. */
 int dp_flat_too_deep(const dp_flat *f, float *const q[3], size_t i, float past);
-/* Moves the inner point of every sample with settled_by DP_SETTLE_SLOW or
- * DP_SETTLE_WIDTH up to where its line meets its faces' medial planes (the
- * crease rule above), when that is shallower, and marks it DP_SETTLE_FLAT.
- * Call after the last dp_flat_update. Returns how many moved; runs on up to
- * `threads` threads, and the result does not depend on it. */
+/* The crease rule above: moves the inner point of every sample with
+ * settled_by DP_SETTLE_SLOW or DP_SETTLE_WIDTH along its line up to the
+ * (upper) median depth at which the line crosses its faces' medial planes,
+ * when that is shallower, and marks it DP_SETTLE_FLAT. Call after the face
+ * depths have capped the samples they reach (dp_flat_too_deep, relabelled
+ * DP_SETTLE_FLAT), so that those count as faces and are left alone. Every
+ * depth is read before any point moves. Returns how many moved; runs on up
+ * to `threads` threads, and the result does not depend on it. */
 size_t dp_flat_cross(dp_flat *f, int threads, float *const q[3], unsigned char *settled_by);
 void dp_flat_free(dp_flat *f);
 

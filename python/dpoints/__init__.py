@@ -159,7 +159,8 @@ def _array(buf, dtype, shape):
 # How an anchor stopped sinking, by Result.settled and the `settled` property of
 # anchors.ply (dp_settle in dpoints.h): still moving at the cap, an opposing
 # front, past the medial axis, as deep as its part is wide, slowed down with
-# its neighbours, past its plate's far face or given its flat face's depth.
+# its neighbours, past its plate's far face or given its flat face's or its
+# crease's depth.
 SETTLE_WAYS = ("unsettled", "front", "medial", "width", "slow", "flat")
 
 
