@@ -292,8 +292,9 @@ static void test_nothing(void **state)
  * settled on their face count). Beyond its y = 30 edge the rounded crease to
  * a wall: a row at y = 31 whose normals are turned 30 degrees towards -y,
  * stopped by slow-down 8 deep (one by the width bound, one at 1.5, one
- * smoothed 10 degrees off its normal's line), and another at y = 32 turned
- * 70 degrees. The 30-degree row meets the face's medial plane z = -2 at
+ * smoothed 10 degrees off its normal's line, one smoothed to 65 degrees from
+ * the vertical, too oblique to the face's plane to read a crossing), and
+ * another at y = 32 turned 70 degrees. The 30-degree row meets the face's medial plane z = -2 at
  * depth 2 / cos 30 (not at its neighbours' depth 2); the smoothed one meets
  * it along its own line; the 70-degree row has no face within 60 degrees and
  * stays; the shallow one stays. Apart, a 30-degree sample beside only two
@@ -305,9 +306,10 @@ static void test_crease(void **state)
 	int side = 31, slow_from = 20;
 	pts_alloc(&s, (size_t)side * (side + 2) + 3);
 	double up[3] = {0, 0, 1};
-	double a30 = 30.0 * M_PI / 180.0, a40 = 40.0 * M_PI / 180.0, a70 = 70.0 * M_PI / 180.0;
+	double a30 = 30.0 * M_PI / 180.0, a40 = 40.0 * M_PI / 180.0, a65 = 65.0 * M_PI / 180.0;
+	double a70 = 70.0 * M_PI / 180.0;
 	double n30[3] = {0, -sin(a30), cos(a30)}, n70[3] = {0, -sin(a70), cos(a70)};
-	size_t k = 0, shallow = 0, smoothed = 0;
+	size_t k = 0, shallow = 0, smoothed = 0, grazing = 0;
 	for (int i = 0; i < side; i++)
 		for (int j = 0; j < side; j++) {
 			double p[3] = {i, j, 0};
@@ -323,10 +325,13 @@ static void test_crease(void **state)
 			shallow = k;
 		if (i == 7)
 			smoothed = k;
+		if (i == 11)
+			grazing = k;
 		set(&s, k, p, n30, i == side / 2 ? 1.5 : 8.0, i == 3 ? DP_SETTLE_WIDTH : DP_SETTLE_SLOW);
-		if (i == 7) {
-			s.q[1][k] = (float)(p[1] + 8.0 * sin(a40));
-			s.q[2][k] = (float)(p[2] - 8.0 * cos(a40));
+		if (i == 7 || i == 11) {
+			double tilt = i == 7 ? a40 : a65;
+			s.q[1][k] = (float)(p[1] + 8.0 * sin(tilt));
+			s.q[2][k] = (float)(p[2] - 8.0 * cos(tilt));
 		}
 		k++;
 	}
@@ -344,7 +349,7 @@ static void test_crease(void **state)
 	double want = 2.0 / cos(a30);
 	printf("  crease: %zu capped, the 30-degree row at %.3f (the face's plane: %.3f)\n", capped,
 	       depth(&s, row30 + 3), want);
-	assert_int_equal(capped, (size_t)(side - 1 + 2 * (side - slow_from)));
+	assert_int_equal(capped, (size_t)(side - 2 + 2 * (side - slow_from)));
 	for (int i = slow_from; i < side; i++)
 		for (int j = side - 2; j < side; j++) {
 			size_t f = (size_t)i * (size_t)side + (size_t)j;
@@ -353,9 +358,9 @@ static void test_crease(void **state)
 		}
 	for (int i = 0; i < side; i++) {
 		size_t a = row30 + (size_t)i, b = row70 + (size_t)i;
-		if (a == shallow) {
+		if (a == shallow || a == grazing) {
 			assert_int_equal(s.why[a], DP_SETTLE_SLOW);
-			assert_true(fabs(depth(&s, a) - 1.5) < 1e-5);
+			assert_true(fabs(depth(&s, a) - (a == shallow ? 1.5 : 8.0)) < 1e-5);
 		} else if (a == smoothed) {
 			assert_int_equal(s.why[a], DP_SETTLE_FLAT);
 			assert_true(fabs(s.q[2][a] + 2.0f) < 1e-3f);
