@@ -85,6 +85,14 @@ static float depth(const float *const p[3], float *const q[3], size_t i)
 	return sqrtf(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
 }
 
+/* Moves q_i along its line from p_i, now `from` deep, to `to` deep. */
+static void lift(const float *const p[3], float *const q[3], size_t i, float from, float to)
+{
+	float s = to / from;
+	for (int c = 0; c < 3; c++)
+		q[c][i] = p[c][i] + (q[c][i] - p[c][i]) * s;
+}
+
 static float cosine(const float *const normal[3], size_t i, size_t o)
 {
 	return normal[0][i] * normal[0][o] + normal[1][i] * normal[1][o] + normal[2][i] * normal[2][o];
@@ -255,9 +263,7 @@ int dp_flat_too_deep(const dp_flat *f, float *const q[3], size_t i, float past)
 	float d = depth(f->p, q, i);
 	if (!(d > past * f->cap[i]))
 		return 0;
-	float s = f->cap[i] / d;
-	for (int c = 0; c < 3; c++)
-		q[c][i] = f->p[c][i] + (q[c][i] - f->p[c][i]) * s;
+	lift(f->p, q, i, d, f->cap[i]);
 	return 1;
 }
 
@@ -294,7 +300,7 @@ static void cross_range(void *arg, size_t begin, size_t end, int part)
 			if (j < 0 || !(f->d2[slot] <= f->link2))
 				break; /* ascending: the rest are farther */
 			unsigned char wj = job->settled_by[j];
-			if (wj != DP_SETTLE_FRONT && wj != DP_SETTLE_MEDIAL && wj != DP_SETTLE_FLAT)
+			if (!evidence(wj) && wj != DP_SETTLE_FLAT)
 				continue;
 			/* a face turned from i's normal by more than the angle (one
 			 * within it would have passed its depth on) and at most
@@ -329,9 +335,7 @@ size_t dp_flat_cross(dp_flat *f, int threads, float *const q[3], unsigned char *
 		float d = depth(f->p, q, i);
 		if (!(f->cross[i] < d))
 			continue; /* never deeper */
-		float s = f->cross[i] / d;
-		for (int c = 0; c < 3; c++)
-			q[c][i] = f->p[c][i] + (q[c][i] - f->p[c][i]) * s;
+		lift(f->p, q, i, d, f->cross[i]);
 		settled_by[i] = DP_SETTLE_FLAT;
 		moved++;
 	}

@@ -214,8 +214,8 @@ void dp_flat_free(dp_flat *f);
  * within DP_FLAT_RIM_R r of an evidence sample, with normals within
  * angle_deg (> 0) of its, or the median half height of the edge bands beside
  * the samples there if less), moving
- * q_i towards p_i, and marks it
- * DP_SETTLE_FLAT; then the crease rule (dp_flat_cross). p: the n samples with unit normals; q: their inner points,
+ * q_i towards p_i, and marks it DP_SETTLE_FLAT; then the crease rule
+ * (dp_flat_cross). p: the n samples with unit normals; q: their inner points,
  * updated in place. *capped receives how many moved. The searches run on up
  * to `threads` threads (core/parallel.h); the result does not depend on it.
  * Errors: DP_ERR_NOMEM,
