@@ -383,10 +383,10 @@ static void true_depth(truth_set *t, uint32_t k, double r, double *slack_r, doub
 /* Whether (x, y, z) lies outside the mesh: its winding number, the solid
  * angle its triangles subtend there over 4π (Van Oosterom and Strackee's
  * formula per triangle), is below one half. The number counts the closed
- * parts that hold the point, so it reads right where parts overlap (the
- * chair's leg tops lie inside its seat, where the nearest face's side would
- * call the seat's middle outside), and it stays near one inside a body with
- * a few holes (the bunny's base). `corners` holds each face's corners. */
+ * parts that hold the point, so it reads right where a mesh's parts overlap
+ * (where the nearest face's side can be an inner face's), and it stays near
+ * one inside a body with a few holes (the bunny's base). `corners` holds each
+ * face's corners. */
 static int is_outside(const double *corners, size_t nfaces, float x, float y, float z)
 {
 	double total = 0.0;

@@ -122,10 +122,11 @@ typedef enum dp_shape_kind {
  *             free of self-intersection
  *   chair:    width = seat W (1), thickness = seat and back T (0.08),
  *             radius = leg radius (0.05), length = leg length = seat height
- *             (0.9), height = back height above the seat (1). Parts are
- *             separate closed meshes that touch: the leg tops and the back's
- *             underside lie on the seat (hidden contact faces, about 4% of
- *             the area, are part of the mesh and of the distance functions).
+ *             (0.9), height = back height above the seat (1); width at
+ *             least 6 leg radii. The legs and the back stand on the seat;
+ *             the mesh and the distance functions are the solid's boundary,
+ *             without faces where the parts touch (the pieces meet along
+ *             their edges without sharing vertices).
  * resolution = segments around the smallest circumference (48; knot and
  * chair 32); other directions are divided so that triangles are roughly
  * equilateral (flat faces: at most `resolution` cells per side).

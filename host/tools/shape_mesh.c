@@ -1,4 +1,5 @@
-/* Triangulation of the built-in shapes: closed, outward-wound meshes. */
+/* Triangulation of the built-in shapes: closed, outward-wound meshes (the
+ * chair's pieces meet along their edges without sharing vertices). */
 #include "tools/shapes.h"
 
 #include "core/common.h"
@@ -58,18 +59,22 @@ static void connect_rows(builder *b, uint32_t base, int rows, int cols, int wrap
 }
 
 /* A surface of revolution about the vertical line through `c`: row k of the
- * profile is a circle of radius r at height c[2] + z. Open profiles start
- * and end on the axis (poles); closed ones wrap. The profile must run so
- * that (d profile) x (d azimuth) points outwards. */
+ * profile is a circle of radius r at height c[2] + z. A profile either wraps
+ * (a torus), starts and ends on the axis (poles), or starts on a rim and ends
+ * on the axis (a leg open at the top, where it meets the seat). It must run
+ * so that (d profile) x (d azimuth) points outwards. */
 typedef void (*profile_fn)(const void *ctx, int row, double *r, double *z);
 
+enum revolve_ends { REVOLVE_WRAP, REVOLVE_POLES, REVOLVE_OPEN_TOP };
+
 static void revolve(builder *b, const double c[3], profile_fn profile, const void *ctx, int rows, int cols,
-		    int closed)
+		    enum revolve_ends ends)
 {
 	double r, z;
-	int first = closed ? 0 : 1, end = closed ? rows : rows - 1;
+	int wrap = ends == REVOLVE_WRAP, north_pole = ends == REVOLVE_POLES;
+	int first = north_pole ? 1 : 0, end = wrap ? rows : rows - 1;
 	uint32_t north = 0, south = 0;
-	if (!closed) {
+	if (north_pole) {
 		profile(ctx, 0, &r, &z);
 		north = add_vertex(b, c[0], c[1], c[2] + z);
 	}
@@ -81,15 +86,16 @@ static void revolve(builder *b, const double c[3], profile_fn profile, const voi
 			add_vertex(b, c[0] + r * cos(phi), c[1] + r * sin(phi), c[2] + z);
 		}
 	}
-	connect_rows(b, base, end - first, cols, closed);
-	if (closed)
+	connect_rows(b, base, end - first, cols, wrap);
+	if (wrap)
 		return;
 	profile(ctx, rows - 1, &r, &z);
 	south = add_vertex(b, c[0], c[1], c[2] + z);
 	uint32_t last = base + (uint32_t)((end - first - 1) * cols);
 	for (int j = 0; j < cols; j++) {
 		uint32_t j1 = (uint32_t)((j + 1) % cols);
-		add_triangle(b, north, base + j, base + j1);
+		if (north_pole)
+			add_triangle(b, north, base + j, base + j1);
 		add_triangle(b, last + j, south, last + j1);
 	}
 }
@@ -112,14 +118,14 @@ static void make_sphere(builder *b, double radius, int res)
 {
 	sphere_profile p = {radius, res / 2 > 2 ? res / 2 : 2};
 	double c[3] = {0, 0, 0};
-	revolve(b, c, sphere_row, &p, p.bands + 1, res, 0);
+	revolve(b, c, sphere_row, &p, p.bands + 1, res, REVOLVE_POLES);
 }
 
 /* Capped cylinder profile: north pole, top cap rings outwards, the side
- * downwards, bottom cap rings inwards, south pole. */
+ * downwards, bottom cap rings inwards, south pole; rows from `first` on. */
 typedef struct cylinder_profile {
 	double radius, length;
-	int cap_rings, side_rows;
+	int cap_rings, side_rows, first;
 } cylinder_profile;
 
 static void cylinder_row(const void *ctx, int row, double *r, double *z)
@@ -127,6 +133,7 @@ static void cylinder_row(const void *ctx, int row, double *r, double *z)
 	const cylinder_profile *p = ctx;
 	int nr = p->cap_rings, nz = p->side_rows;
 	double h = 0.5 * p->length;
+	row += p->first;
 	if (row <= nr) {
 		*r = p->radius * row / nr;
 		*z = h;
@@ -145,12 +152,19 @@ static int divisions(double length, double edge, int max)
 	return n < 1 ? 1 : (n > max ? max : (int)n);
 }
 
-static void make_cylinder(builder *b, const double centre[3], double radius, double length, int res)
+/* Without its top cap (`open_top`) the side's top rim is the profile's first
+ * row: a chair leg, whose top lies inside the seat. */
+static void make_cylinder(builder *b, const double centre[3], double radius, double length, int res, int open_top)
 {
 	double edge = 2.0 * M_PI * radius / res;
 	cylinder_profile p = {radius, length, divisions(radius, edge, DP_SHAPE_RESOLUTION_MAX),
-			      divisions(length, edge, 64 * DP_SHAPE_RESOLUTION_MAX)};
-	revolve(b, centre, cylinder_row, &p, 2 * p.cap_rings + p.side_rows + 1, res, 0);
+			      divisions(length, edge, 64 * DP_SHAPE_RESOLUTION_MAX), 0};
+	int rows = 2 * p.cap_rings + p.side_rows + 1;
+	if (open_top) {
+		p.first = p.cap_rings;
+		rows -= p.cap_rings;
+	}
+	revolve(b, centre, cylinder_row, &p, rows, res, open_top ? REVOLVE_OPEN_TOP : REVOLVE_POLES);
 }
 
 typedef struct torus_profile {
@@ -172,7 +186,7 @@ static void make_torus(builder *b, double radius, double tube, int res)
 	double c[3] = {0, 0, 0};
 	int along = divisions(2.0 * M_PI * radius, 2.0 * M_PI * tube / res, 64 * DP_SHAPE_RESOLUTION_MAX);
 	torus_profile p = {radius, tube, res};
-	revolve(b, c, torus_row, &p, res, along, 1);
+	revolve(b, c, torus_row, &p, res, along, REVOLVE_WRAP);
 }
 
 /* Box [lo, hi] with n[d] cells along axis d. Faces are grids on the surface
@@ -306,24 +320,142 @@ static void make_knot(builder *b, double s, double tube, int res)
 	connect_rows(b, base, rings, res, 1);
 }
 
-static void box_divisions(const double lo[3], const double hi[3], double edge, int res, int n[3])
+/* The rectangle lo..hi (lo[axis] == hi[axis]) as a grid of cells about
+ * `edge` across (at most `res` per side), facing +axis (`side` 1) or -axis. */
+static void make_rect(builder *b, int axis, int side, const double lo[3], const double hi[3], double edge, int res)
 {
-	for (int d = 0; d < 3; d++)
-		n[d] = divisions(hi[d] - lo[d], edge, res);
+	/* (u, v) with e_u x e_v = the outward normal, as in make_box */
+	int u = (axis + 1) % 3, v = (axis + 2) % 3;
+	if (!side) {
+		int t = u;
+		u = v;
+		v = t;
+	}
+	int nu = divisions(hi[u] - lo[u], edge, res), nv = divisions(hi[v] - lo[v], edge, res);
+	uint32_t base = (uint32_t)b->nv;
+	for (int i = 0; i <= nu; i++)
+		for (int j = 0; j <= nv; j++) {
+			double p[3];
+			p[axis] = lo[axis];
+			p[u] = lo[u] + (hi[u] - lo[u]) * i / nu;
+			p[v] = lo[v] + (hi[v] - lo[v]) * j / nv;
+			add_vertex(b, p[0], p[1], p[2]);
+		}
+	for (int i = 0; i < nu; i++)
+		for (int j = 0; j < nv; j++) {
+			uint32_t c = base + (uint32_t)(i * (nv + 1) + j);
+			add_quad(b, c, c + (uint32_t)(nv + 1), c + (uint32_t)(nv + 2), c + 1);
+		}
 }
 
+/* The horizontal square of half-side `half` around the vertical line
+ * through c, less the disc of `radius` (< half) round it, at height z,
+ * facing down: where a leg meets the seat's underside. The disc's rim has
+ * the leg's vertices (angles 2 pi j / res); the square's border has those
+ * angles' rays and its four corners, and the two are zipped by angle. */
+static void make_square_ring(builder *b, const double c[3], double half, double radius, int res)
+{
+	uint32_t inner = (uint32_t)b->nv;
+	for (int j = 0; j < res; j++) {
+		double phi = 2.0 * M_PI * j / res;
+		add_vertex(b, c[0] + radius * cos(phi), c[1] + radius * sin(phi), c[2]);
+	}
+	/* The square's border: each ray's angle, with a corner inserted
+	 * before the first ray past it unless a ray hits it. */
+	uint32_t outer = (uint32_t)b->nv;
+	int m = 0, corner = 0;
+	double angle[DP_SHAPE_RESOLUTION_MAX + 4];
+	for (int j = 0; j <= res; j++) {
+		double phi = 2.0 * M_PI * j / res;
+		for (; corner < 4 && M_PI * (2 * corner + 1) / 4 <= phi + 1e-12; corner++)
+			if (fabs(M_PI * (2 * corner + 1) / 4 - phi) > 1e-12)
+				angle[m++] = M_PI * (2 * corner + 1) / 4;
+		if (j < res)
+			angle[m++] = phi;
+	}
+	for (int k = 0; k < m; k++) {
+		double x = cos(angle[k]), y = sin(angle[k]), big = fmax(fabs(x), fabs(y));
+		x /= big;
+		y /= big;
+		/* the corners' cosine and sine differ in the last bit */
+		if (fabs(fabs(x) - 1.0) < 1e-9)
+			x = copysign(1.0, x);
+		if (fabs(fabs(y) - 1.0) < 1e-9)
+			y = copysign(1.0, y);
+		add_vertex(b, c[0] + half * x, c[1] + half * y, c[2]);
+	}
+	/* Advance along whichever border's next vertex comes first by angle;
+	 * clockwise seen from above, so the faces point down. */
+	int i = 0, k = 0;
+	while (i < res || k < m) {
+		double next_in = 2.0 * M_PI * (i + 1) / res, next_out = k + 1 < m ? angle[k + 1] : 2.0 * M_PI;
+		uint32_t a = inner + (uint32_t)(i % res), o = outer + (uint32_t)(k % m);
+		if (k == m || (i < res && next_in <= next_out)) {
+			add_triangle(b, a, inner + (uint32_t)((i + 1) % res), o);
+			i++;
+		} else {
+			add_triangle(b, a, outer + (uint32_t)((k + 1) % m), o);
+			k++;
+		}
+	}
+}
+
+/* The boundary of the chair's solid: where the back stands on the seat and
+ * the legs meet it there are no faces (a face inside the solid is no part of
+ * its surface, and a point beside the seam would be judged against whichever
+ * of two coincident faces of opposite normals the search met first). The
+ * pieces meet along their edges without sharing vertices. */
 static void make_chair(builder *b, const dp_shape *s)
 {
 	dp_chair_parts c;
 	dp_chair_layout(s, &c);
-	int res = s->resolution, n[3];
+	int res = s->resolution;
 	double edge = 2.0 * M_PI * s->radius / res;
-	box_divisions(c.seat_lo, c.seat_hi, edge, res, n);
-	make_box(b, c.seat_lo, c.seat_hi, n);
-	box_divisions(c.back_lo, c.back_hi, edge, res, n);
-	make_box(b, c.back_lo, c.back_hi, n);
-	for (int i = 0; i < 4; i++)
-		make_cylinder(b, c.leg[i], s->radius, s->length, res);
+	const double *slo = c.seat_lo, *shi = c.seat_hi, *blo = c.back_lo, *bhi = c.back_hi;
+	double half = DP_CHAIR_LEG_INSET * s->radius;
+	/* the seat's four sides, then the top in front of the back */
+	for (int axis = 0; axis < 2; axis++)
+		for (int side = 0; side < 2; side++) {
+			double lo[3], hi[3];
+			memcpy(lo, slo, sizeof lo);
+			memcpy(hi, shi, sizeof hi);
+			if (side)
+				lo[axis] = hi[axis];
+			else
+				hi[axis] = lo[axis];
+			make_rect(b, axis, side, lo, hi, edge, res);
+		}
+	double top_lo[3] = {slo[0], slo[1], shi[2]}, top_hi[3] = {shi[0], blo[1], shi[2]};
+	make_rect(b, 2, 1, top_lo, top_hi, edge, res);
+	/* the underside: a cross between the legs' squares, and each square
+	 * less its leg */
+	double z = slo[2];
+	double mid_lo[3] = {slo[0] + 2.0 * half, slo[1], z}, mid_hi[3] = {shi[0] - 2.0 * half, shi[1], z};
+	make_rect(b, 2, 0, mid_lo, mid_hi, edge, res);
+	for (int side = 0; side < 2; side++) {
+		double lo[3] = {side ? shi[0] - 2.0 * half : slo[0], slo[1] + 2.0 * half, z};
+		double hi[3] = {side ? shi[0] : slo[0] + 2.0 * half, shi[1] - 2.0 * half, z};
+		make_rect(b, 2, 0, lo, hi, edge, res);
+	}
+	for (int i = 0; i < 4; i++) {
+		double at[3] = {c.leg[i][0], c.leg[i][1], z};
+		make_square_ring(b, at, half, s->radius, res);
+		make_cylinder(b, c.leg[i], s->radius, s->length, res, 1);
+	}
+	/* the back: its sides, front, rear and top, open below */
+	for (int axis = 0; axis < 3; axis++)
+		for (int side = 0; side < 2; side++) {
+			if (axis == 2 && !side)
+				continue;
+			double lo[3], hi[3];
+			memcpy(lo, blo, sizeof lo);
+			memcpy(hi, bhi, sizeof hi);
+			if (side)
+				lo[axis] = hi[axis];
+			else
+				hi[axis] = lo[axis];
+			make_rect(b, axis, side, lo, hi, edge, res);
+		}
 }
 
 static void generate(builder *b, const dp_shape *s)
@@ -332,7 +464,7 @@ static void generate(builder *b, const dp_shape *s)
 	int res = s->resolution;
 	switch (s->kind) {
 	case DP_SHAPE_SPHERE: make_sphere(b, s->radius, res); break;
-	case DP_SHAPE_CYLINDER: make_cylinder(b, origin, s->radius, s->length, res); break;
+	case DP_SHAPE_CYLINDER: make_cylinder(b, origin, s->radius, s->length, res, 0); break;
 	case DP_SHAPE_SLAB: {
 		double h = 0.5 * s->width, t = 0.5 * s->thickness;
 		double lo[3] = {-h, -h, -t}, hi[3] = {h, h, t};
@@ -347,7 +479,7 @@ static void generate(builder *b, const dp_shape *s)
 		double axes[4][3];
 		dp_rods_layout(s, axes);
 		for (int i = 0; i < 4; i++)
-			make_cylinder(b, axes[i], s->radius, s->length, res);
+			make_cylinder(b, axes[i], s->radius, s->length, res, 0);
 		break;
 	}
 	}

@@ -71,7 +71,7 @@ dp_status dp_shape_check(const dp_shape *s, dp_error *err)
 	case DP_SHAPE_KNOT: ok = positive(s->radius) && positive(s->tube) && s->tube <= KNOT_TUBE_MAX * s->radius; break;
 	case DP_SHAPE_CHAIR:
 		ok = positive(s->radius) && positive(s->length) && positive(s->width) && positive(s->thickness) &&
-		     positive(s->height) && s->width >= 2 * (DP_CHAIR_LEG_INSET + 1) * s->radius &&
+		     positive(s->height) && s->width >= 4 * DP_CHAIR_LEG_INSET * s->radius &&
 		     s->thickness < s->width;
 		break;
 	case DP_SHAPE_RODS: ok = positive(s->radius) && positive(s->length) && s->width > 2 * s->radius; break;
@@ -234,6 +234,52 @@ static double knot_core_distance(double s, const double p[3])
 	return sqrt(best);
 }
 
+/* Distance to the face of the box [lo, hi] across `axis` on `side`. */
+static double box_face_distance(const double p[3], const double lo[3], const double hi[3], int axis, int side)
+{
+	double flo[3], fhi[3];
+	memcpy(flo, lo, sizeof flo);
+	memcpy(fhi, hi, sizeof fhi);
+	if (side)
+		flo[axis] = fhi[axis];
+	else
+		fhi[axis] = flo[axis];
+	return rect_distance(p, flo, fhi);
+}
+
+/* Distance to the boundary of the chair's solid, the faces shape_mesh.c
+ * builds: every face of the parts but those inside it (the back's underside
+ * and the seat's top beneath it, the legs' tops and the discs of the seat's
+ * underside on them). */
+static double chair_surface_distance(const dp_shape *s, const double p[3])
+{
+	dp_chair_parts c;
+	dp_chair_layout(s, &c);
+	double d = INFINITY;
+	for (int axis = 0; axis < 2; axis++)
+		for (int side = 0; side < 2; side++)
+			d = fmin(d, box_face_distance(p, c.seat_lo, c.seat_hi, axis, side));
+	double top_lo[3] = {c.seat_lo[0], c.seat_lo[1], c.seat_hi[2]};
+	double top_hi[3] = {c.seat_hi[0], c.back_lo[1], c.seat_hi[2]};
+	d = fmin(d, rect_distance(p, top_lo, top_hi));
+	for (int axis = 0; axis < 3; axis++)
+		for (int side = 0; side < 2; side++)
+			if (axis < 2 || side)
+				d = fmin(d, box_face_distance(p, c.back_lo, c.back_hi, axis, side));
+	/* the seat's underside: within a leg's disc the nearest point of the
+	 * face is on the disc's rim (the discs lie well inside the face) */
+	double under = box_face_distance(p, c.seat_lo, c.seat_hi, 2, 0), dz = p[2] - c.seat_lo[2];
+	for (int i = 0; i < 4; i++) {
+		double rho = hypot(p[0] - c.leg[i][0], p[1] - c.leg[i][1]);
+		double bottom = c.leg[i][2] - 0.5 * s->length;
+		if (rho < s->radius)
+			under = hypot(s->radius - rho, dz);
+		d = fmin(d, hypot(rho - s->radius, fmax(fabs(p[2] - c.leg[i][2]) - 0.5 * s->length, 0.0)));
+		d = fmin(d, hypot(fmax(rho - s->radius, 0.0), p[2] - bottom));
+	}
+	return fmin(d, under);
+}
+
 double dp_shape_volume(const dp_shape *s)
 {
 	if (dp_shape_check(s, NULL) != DP_OK)
@@ -267,14 +313,7 @@ double dp_shape_surface_distance(const dp_shape *s, const double p[3])
 	}
 	case DP_SHAPE_TORUS: return fabs(hypot(hypot(p[0], p[1]) - s->radius, p[2]) - s->tube);
 	case DP_SHAPE_KNOT: return fabs(knot_core_distance(s->radius, p) - s->tube);
-	case DP_SHAPE_CHAIR: {
-		dp_chair_parts c;
-		dp_chair_layout(s, &c);
-		double d = fmin(fabs(box_sdf(p, c.seat_lo, c.seat_hi)), fabs(box_sdf(p, c.back_lo, c.back_hi)));
-		for (int i = 0; i < 4; i++)
-			d = fmin(d, fabs(cylinder_sdf(p, c.leg[i], s->radius, s->length)));
-		return d;
-	}
+	case DP_SHAPE_CHAIR: return chair_surface_distance(s, p);
 	case DP_SHAPE_RODS: {
 		double axes[4][3], d = INFINITY;
 		dp_rods_layout(s, axes);
