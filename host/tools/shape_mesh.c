@@ -348,6 +348,14 @@ static void make_rect(builder *b, int axis, int side, const double lo[3], const 
 		}
 }
 
+static void make_box_face(builder *b, const double lo[3], const double hi[3], int axis, int side, double edge,
+			  int res)
+{
+	double flo[3], fhi[3];
+	dp_box_face(lo, hi, axis, side, flo, fhi);
+	make_rect(b, axis, side, flo, fhi, edge, res);
+}
+
 /* The horizontal square of half-side `half` around the vertical line
  * through c, less the disc of `radius` (< half) round it, at height z,
  * facing down: where a leg meets the seat's underside. The disc's rim has
@@ -415,16 +423,8 @@ static void make_chair(builder *b, const dp_shape *s)
 	double half = DP_CHAIR_LEG_INSET * s->radius;
 	/* the seat's four sides, then the top in front of the back */
 	for (int axis = 0; axis < 2; axis++)
-		for (int side = 0; side < 2; side++) {
-			double lo[3], hi[3];
-			memcpy(lo, slo, sizeof lo);
-			memcpy(hi, shi, sizeof hi);
-			if (side)
-				lo[axis] = hi[axis];
-			else
-				hi[axis] = lo[axis];
-			make_rect(b, axis, side, lo, hi, edge, res);
-		}
+		for (int side = 0; side < 2; side++)
+			make_box_face(b, slo, shi, axis, side, edge, res);
 	double top_lo[3] = {slo[0], slo[1], shi[2]}, top_hi[3] = {shi[0], blo[1], shi[2]};
 	make_rect(b, 2, 1, top_lo, top_hi, edge, res);
 	/* the underside: a cross between the legs' squares, and each square
@@ -444,18 +444,9 @@ static void make_chair(builder *b, const dp_shape *s)
 	}
 	/* the back: its sides, front, rear and top, open below */
 	for (int axis = 0; axis < 3; axis++)
-		for (int side = 0; side < 2; side++) {
-			if (axis == 2 && !side)
-				continue;
-			double lo[3], hi[3];
-			memcpy(lo, blo, sizeof lo);
-			memcpy(hi, bhi, sizeof hi);
-			if (side)
-				lo[axis] = hi[axis];
-			else
-				hi[axis] = lo[axis];
-			make_rect(b, axis, side, lo, hi, edge, res);
-		}
+		for (int side = 0; side < 2; side++)
+			if (axis < 2 || side)
+				make_box_face(b, blo, bhi, axis, side, edge, res);
 }
 
 static void generate(builder *b, const dp_shape *s)

@@ -132,6 +132,16 @@ void dp_chair_layout(const dp_shape *s, dp_chair_parts *c)
 	}
 }
 
+void dp_box_face(const double lo[3], const double hi[3], int axis, int side, double face_lo[3], double face_hi[3])
+{
+	memcpy(face_lo, lo, 3 * sizeof *face_lo);
+	memcpy(face_hi, hi, 3 * sizeof *face_hi);
+	if (side)
+		face_lo[axis] = face_hi[axis];
+	else
+		face_hi[axis] = face_lo[axis];
+}
+
 void dp_rods_layout(const dp_shape *s, double axes[4][3])
 {
 	for (int i = 0; i < 4; i++) {
@@ -238,12 +248,7 @@ static double knot_core_distance(double s, const double p[3])
 static double box_face_distance(const double p[3], const double lo[3], const double hi[3], int axis, int side)
 {
 	double flo[3], fhi[3];
-	memcpy(flo, lo, sizeof flo);
-	memcpy(fhi, hi, sizeof fhi);
-	if (side)
-		flo[axis] = fhi[axis];
-	else
-		fhi[axis] = flo[axis];
+	dp_box_face(lo, hi, axis, side, flo, fhi);
 	return rect_distance(p, flo, fhi);
 }
 

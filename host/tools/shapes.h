@@ -29,6 +29,10 @@ typedef struct dp_chair_parts {
 
 void dp_chair_layout(const dp_shape *s, dp_chair_parts *c);
 
+/* The face of the box [lo, hi] across `axis` on `side` (1: at hi[axis]) as
+ * the rectangle [face_lo, face_hi]. */
+void dp_box_face(const double lo[3], const double hi[3], int axis, int side, double face_lo[3], double face_hi[3]);
+
 /* The rods' axis centres (each the cylinder's mid-height). */
 void dp_rods_layout(const dp_shape *s, double axes[4][3]);
 
