@@ -217,7 +217,9 @@ static int chair_contact(const dp_shape *s, const double p[3])
 	const double eps = 1e-6;
 	double leg = 0.5 * s->width - DP_CHAIR_LEG_INSET * s->radius;
 	if (fabs(p[2] - s->length) < eps)
-		return hypot(fabs(p[0]) - leg, fabs(p[1]) - leg) < s->radius - eps;
+		/* the legs' polygons lie inside their circles: inside the polygon's
+		 * inner radius, whatever the angle */
+		return hypot(fabs(p[0]) - leg, fabs(p[1]) - leg) < s->radius * cos(M_PI / s->resolution) - eps;
 	if (fabs(p[2] - (s->length + s->thickness)) < eps)
 		return p[1] > 0.5 * s->width - s->thickness + eps;
 	return 0;

@@ -122,8 +122,8 @@ typedef enum dp_shape_kind {
  *             free of self-intersection
  *   chair:    width = seat W (1), thickness = seat and back T (0.08),
  *             radius = leg radius (0.05), length = leg length = seat height
- *             (0.9), height = back height above the seat (1); width at
- *             least 6 leg radii. The legs and the back stand on the seat;
+ *             (0.9), height = back height above the seat (1); width more
+ *             than 6 leg radii. The legs and the back stand on the seat;
  *             the mesh and the distance functions are the solid's boundary,
  *             without faces where the parts touch (the pieces meet along
  *             their edges without sharing vertices).

@@ -71,7 +71,7 @@ dp_status dp_shape_check(const dp_shape *s, dp_error *err)
 	case DP_SHAPE_KNOT: ok = positive(s->radius) && positive(s->tube) && s->tube <= KNOT_TUBE_MAX * s->radius; break;
 	case DP_SHAPE_CHAIR:
 		ok = positive(s->radius) && positive(s->length) && positive(s->width) && positive(s->thickness) &&
-		     positive(s->height) && s->width >= 4 * DP_CHAIR_LEG_INSET * s->radius &&
+		     positive(s->height) && s->width > 4 * DP_CHAIR_LEG_INSET * s->radius &&
 		     s->thickness < s->width;
 		break;
 	case DP_SHAPE_RODS: ok = positive(s->radius) && positive(s->length) && s->width > 2 * s->radius; break;
