@@ -348,14 +348,6 @@ static void make_rect(builder *b, int axis, int side, const double lo[3], const 
 		}
 }
 
-static void make_box_face(builder *b, const double lo[3], const double hi[3], int axis, int side, double edge,
-			  int res)
-{
-	double flo[3], fhi[3];
-	dp_box_face(lo, hi, axis, side, flo, fhi);
-	make_rect(b, axis, side, flo, fhi, edge, res);
-}
-
 /* The horizontal square of half-side `half` around the vertical line
  * through c, less the disc of `radius` (< half) round it, at height z,
  * facing down: where a leg meets the seat's underside. The disc's rim has
@@ -419,14 +411,14 @@ static void make_chair(builder *b, const dp_shape *s)
 	dp_chair_layout(s, &c);
 	int res = s->resolution;
 	double edge = 2.0 * M_PI * s->radius / res;
-	const double *slo = c.seat_lo, *shi = c.seat_hi, *blo = c.back_lo, *bhi = c.back_hi;
+	const double *slo = c.seat_lo, *shi = c.seat_hi;
 	double half = DP_CHAIR_LEG_INSET * s->radius;
-	/* the seat's four sides, then the top in front of the back */
-	for (int axis = 0; axis < 2; axis++)
-		for (int side = 0; side < 2; side++)
-			make_box_face(b, slo, shi, axis, side, edge, res);
-	double top_lo[3] = {slo[0], slo[1], shi[2]}, top_hi[3] = {shi[0], blo[1], shi[2]};
-	make_rect(b, 2, 1, top_lo, top_hi, edge, res);
+	dp_chair_rect rect[DP_CHAIR_RECTS];
+	dp_chair_rects(&c, rect);
+	/* the seat's five, the underside and legs, then the back's five: the
+	 * order the evaluation's samples and ties were measured with */
+	for (int k = 0; k < DP_CHAIR_SEAT_RECTS; k++)
+		make_rect(b, rect[k].axis, rect[k].side, rect[k].lo, rect[k].hi, edge, res);
 	/* the underside: a cross between the legs' squares, and each square
 	 * less its leg */
 	double z = slo[2];
@@ -442,11 +434,8 @@ static void make_chair(builder *b, const dp_shape *s)
 		make_square_ring(b, at, half, s->radius, res);
 		make_cylinder(b, c.leg[i], s->radius, s->length, res, 1);
 	}
-	/* the back: its sides, front, rear and top, open below */
-	for (int axis = 0; axis < 3; axis++)
-		for (int side = 0; side < 2; side++)
-			if (axis < 2 || side)
-				make_box_face(b, blo, bhi, axis, side, edge, res);
+	for (int k = DP_CHAIR_SEAT_RECTS; k < DP_CHAIR_RECTS; k++)
+		make_rect(b, rect[k].axis, rect[k].side, rect[k].lo, rect[k].hi, edge, res);
 }
 
 static void generate(builder *b, const dp_shape *s)

@@ -132,14 +132,31 @@ void dp_chair_layout(const dp_shape *s, dp_chair_parts *c)
 	}
 }
 
-void dp_box_face(const double lo[3], const double hi[3], int axis, int side, double face_lo[3], double face_hi[3])
+/* The face of the box [lo, hi] across `axis` on `side`. */
+static dp_chair_rect box_face(const double lo[3], const double hi[3], int axis, int side)
 {
-	memcpy(face_lo, lo, 3 * sizeof *face_lo);
-	memcpy(face_hi, hi, 3 * sizeof *face_hi);
+	dp_chair_rect f = {.axis = axis, .side = side};
+	memcpy(f.lo, lo, sizeof f.lo);
+	memcpy(f.hi, hi, sizeof f.hi);
 	if (side)
-		face_lo[axis] = face_hi[axis];
+		f.lo[axis] = f.hi[axis];
 	else
-		face_hi[axis] = face_lo[axis];
+		f.hi[axis] = f.lo[axis];
+	return f;
+}
+
+void dp_chair_rects(const dp_chair_parts *c, dp_chair_rect out[DP_CHAIR_RECTS])
+{
+	int k = 0;
+	for (int axis = 0; axis < 2; axis++)
+		for (int side = 0; side < 2; side++)
+			out[k++] = box_face(c->seat_lo, c->seat_hi, axis, side);
+	out[k] = box_face(c->seat_lo, c->seat_hi, 2, 1);
+	out[k++].hi[1] = c->back_lo[1];
+	for (int axis = 0; axis < 3; axis++)
+		for (int side = 0; side < 2; side++)
+			if (axis < 2 || side)
+				out[k++] = box_face(c->back_lo, c->back_hi, axis, side);
 }
 
 void dp_rods_layout(const dp_shape *s, double axes[4][3])
@@ -244,14 +261,6 @@ static double knot_core_distance(double s, const double p[3])
 	return sqrt(best);
 }
 
-/* Distance to the face of the box [lo, hi] across `axis` on `side`. */
-static double box_face_distance(const double p[3], const double lo[3], const double hi[3], int axis, int side)
-{
-	double flo[3], fhi[3];
-	dp_box_face(lo, hi, axis, side, flo, fhi);
-	return rect_distance(p, flo, fhi);
-}
-
 /* Distance to the boundary of the chair's solid, the faces shape_mesh.c
  * builds: every face of the parts but those inside it (the back's underside
  * and the seat's top beneath it, the legs' tops and the discs of the seat's
@@ -260,20 +269,15 @@ static double chair_surface_distance(const dp_shape *s, const double p[3])
 {
 	dp_chair_parts c;
 	dp_chair_layout(s, &c);
+	dp_chair_rect rect[DP_CHAIR_RECTS];
+	dp_chair_rects(&c, rect);
 	double d = INFINITY;
-	for (int axis = 0; axis < 2; axis++)
-		for (int side = 0; side < 2; side++)
-			d = fmin(d, box_face_distance(p, c.seat_lo, c.seat_hi, axis, side));
-	double top_lo[3] = {c.seat_lo[0], c.seat_lo[1], c.seat_hi[2]};
-	double top_hi[3] = {c.seat_hi[0], c.back_lo[1], c.seat_hi[2]};
-	d = fmin(d, rect_distance(p, top_lo, top_hi));
-	for (int axis = 0; axis < 3; axis++)
-		for (int side = 0; side < 2; side++)
-			if (axis < 2 || side)
-				d = fmin(d, box_face_distance(p, c.back_lo, c.back_hi, axis, side));
+	for (int k = 0; k < DP_CHAIR_RECTS; k++)
+		d = fmin(d, rect_distance(p, rect[k].lo, rect[k].hi));
 	/* the seat's underside: within a leg's disc the nearest point of the
 	 * face is on the disc's rim (the discs lie well inside the face) */
-	double under = box_face_distance(p, c.seat_lo, c.seat_hi, 2, 0), dz = p[2] - c.seat_lo[2];
+	dp_chair_rect base = box_face(c.seat_lo, c.seat_hi, 2, 0);
+	double under = rect_distance(p, base.lo, base.hi), dz = p[2] - c.seat_lo[2];
 	for (int i = 0; i < 4; i++) {
 		double rho = hypot(p[0] - c.leg[i][0], p[1] - c.leg[i][1]);
 		double bottom = c.leg[i][2] - 0.5 * s->length;

@@ -29,9 +29,20 @@ typedef struct dp_chair_parts {
 
 void dp_chair_layout(const dp_shape *s, dp_chair_parts *c);
 
-/* The face of the box [lo, hi] across `axis` on `side` (1: at hi[axis]) as
- * the rectangle [face_lo, face_hi]. */
-void dp_box_face(const double lo[3], const double hi[3], int axis, int side, double face_lo[3], double face_hi[3]);
+/* A flat face of the chair's boundary: the rectangle [lo, hi] (lo[axis] ==
+ * hi[axis]) facing +axis (`side` 1) or -axis. */
+typedef struct dp_chair_rect {
+	double lo[3], hi[3];
+	int axis, side;
+} dp_chair_rect;
+
+#define DP_CHAIR_RECTS 10
+#define DP_CHAIR_SEAT_RECTS 5 /* the first five are the seat's */
+
+/* The chair's flat boundary faces but its underside, which the legs pierce:
+ * the seat's four sides and its top in front of the back, the back's sides,
+ * front, rear and top. The mesh and the surface distance both read them. */
+void dp_chair_rects(const dp_chair_parts *c, dp_chair_rect out[DP_CHAIR_RECTS]);
 
 /* The rods' axis centres (each the cylinder's mid-height). */
 void dp_rods_layout(const dp_shape *s, double axes[4][3]);
