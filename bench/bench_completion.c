@@ -4,7 +4,7 @@
  * backend only: this measures quality, bench_stages compares the backends.
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
- *                    [--coarse N] [--surface-iters N] [--wlop-seed S] [--sink-depth 0|1]
+ *                    [--coarse N] [--surface-iters N] [--wlop-seed S] [--sink-depth 0|1] [--even-rounds N]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -40,6 +40,8 @@
  * default: completion spreads with the iterations and so does the error of
  * what it completes, and a sweep of this shows the trade (README "Results
  * measured here").
+ * --even-rounds sets dp_refine_params.even_rounds (default 0, off), whose
+ * trade of even spacing against flips and accuracy these numbers show.
  * Real-data cases are skipped with a message when the data folder is absent.
  * Lengths are in bounding-box diagonals of the ground truth unless named _r. */
 #include "dpoints_tools.h"
@@ -71,6 +73,7 @@ typedef struct options {
 	const char *device;
 	size_t coarse;    /* --coarse: the coarse level's count instead of the default */
 	int surface_iters; /* --surface-iters: the surface stage's cap, or -1 for the default */
+	int even_rounds;   /* --even-rounds, or -1 for the default */
 	const char *save; /* folder for each case's input, surface and skeleton PLYs, or NULL */
 	uint64_t seed;
 	uint64_t wlop_seed; /* --wlop-seed: WLOP's initial sample choice, or 0 for the library's default */
@@ -93,14 +96,14 @@ static void print_stages(const dp_result *res)
 	printf(",\"samples\":%zu,\"r\":%.6g,\"levels\":%d,\"seconds\":{\"wlop\":%.3f,\"sink\":%.3f,\"skeleton\":%.3f,"
 	       "\"surface\":%.3f,\"total\":%.3f},\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
 	       "\"capped\":{\"wlop\":%s,\"sink\":%s,\"skeleton\":%s,\"surface\":%s},\"surface_pairs\":%.4g,"
-	       "\"normals_disagreeing\":%zu,\"escaped\":%zu",
+	       "\"normals_disagreeing\":%zu,\"escaped\":%zu,\"even_moved\":%zu",
 	       res->surface.n, res->r, res->levels, res->wlop_stats.seconds, res->sink_stats.seconds,
 	       res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,
 	       res->wlop_stats.iterations, res->sink_stats.iterations, res->skeleton_stats.iterations,
 	       res->surface_stats.iterations, res->wlop_stats.converged ? "false" : "true",
 	       res->sink_stats.unsettled ? "true" : "false", res->skeleton_stats.converged ? "false" : "true",
 	       res->surface_stats.converged ? "false" : "true", res->surface_stats.pair_evaluations,
-	       res->surface_stats.normals_disagreeing, res->surface_stats.escaped);
+	       res->surface_stats.normals_disagreeing, res->surface_stats.escaped, res->even_moved);
 }
 
 static void print_eval(const char *name, const dp_eval_result *e)
@@ -489,12 +492,14 @@ out:
 	free(corners);
 }
 
-/* The library's defaults with this run's --surface-iters. */
+/* The library's defaults with this run's --surface-iters and --even-rounds. */
 static void bench_params(dp_params *p)
 {
 	dp_params_default(p);
 	if (opts->surface_iters >= 0)
 		p->surface.max_iters = opts->surface_iters;
+	if (opts->even_rounds >= 0)
+		p->refine.even_rounds = opts->even_rounds;
 	if (opts->wlop_seed)
 		p->wlop.seed = opts->wlop_seed;
 }
@@ -764,6 +769,7 @@ static int parse(int argc, char **argv, options *o)
 	o->save = NULL;
 	o->coarse = 0;
 	o->surface_iters = -1;
+	o->even_rounds = -1;
 	o->seed = 7;
 	o->wlop_seed = 0;
 	o->sink_depth = 1;
@@ -778,12 +784,12 @@ static int parse(int argc, char **argv, options *o)
 			o->device = argv[i + 1];
 		else if (!strcmp(argv[i], "--coarse"))
 			o->coarse = strtoull(argv[i + 1], NULL, 10);
-		else if (!strcmp(argv[i], "--surface-iters")) {
+		else if (!strcmp(argv[i], "--surface-iters") || !strcmp(argv[i], "--even-rounds")) {
 			char *end;
 			long v = strtol(argv[i + 1], &end, 10);
 			if (*end || v < 0 || v > INT_MAX)
 				return -1;
-			o->surface_iters = (int)v;
+			*(argv[i][2] == 's' ? &o->surface_iters : &o->even_rounds) = (int)v;
 		} else if (!strcmp(argv[i], "--save"))
 			o->save = argv[i + 1];
 		else if (!strcmp(argv[i], "--seed"))
@@ -816,7 +822,7 @@ int main(int argc, char **argv)
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue,lamppost] "
 				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] "
-				"[--surface-iters N] [--wlop-seed S] [--sink-depth 0|1]\n");
+				"[--surface-iters N] [--wlop-seed S] [--sink-depth 0|1] [--even-rounds N]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;

@@ -158,6 +158,30 @@ one_error_line bad_coarse 2 "--coarse-samples"
 run bad_level_factor consolidate "$tmp/torus.ply" -o "$tmp/bad" --level-factor 1
 one_error_line bad_level_factor 2 "level factor"
 
+# --even-rounds: the rounds run after the last level, show in the progress,
+# keep one row per deep point and are counted in report.json.
+if expect_ok even consolidate "$tmp/torus.ply" -o "$tmp/even" --samples $m --even-rounds 2; then
+	grep -qE "^ *\[ *[0-9.]+ s\] even 2 +ended after 3/3 iterations: fixed iteration count" "$tmp/even.err" ||
+		fail "--even-rounds 2: no end line for the second round: $(cat "$tmp/even.err")"
+	if msg=$(py "$PLY_PY"'
+import json
+d, m = sys.argv[1], int(sys.argv[2])
+for name in ("surface.ply", "skeleton.ply"):
+    _, rows, _ = read_ply(d + "/" + name)
+    if len(rows) != m:
+        sys.exit("%s: %d rows, expected %d" % (name, len(rows), m))
+rep = json.load(open(d + "/report.json"))
+refine, surface = rep["parameters"]["refine"], rep["results"]["surface"]
+if refine["even_rounds"] != 2 or refine["even_iters"] != 3 or not 0 <= surface["even_moved"] <= 2 * m // 10:
+    sys.exit("report: %s, moved %s" % (refine, surface["even_moved"]))
+print("%d rows, %d points moved" % (m, surface["even_moved"]))
+' "$tmp/even" $m 2>&1); then ok "--even-rounds 2: $msg"; else fail "--even-rounds 2: $msg"; fi
+fi
+run bad_even consolidate "$tmp/torus.ply" -o "$tmp/bad" --even-rounds -1
+one_error_line bad_even 2 "even-spacing rounds"
+run bad_even_iters consolidate "$tmp/torus.ply" -o "$tmp/bad" --even-iters 0
+one_error_line bad_even_iters 2 "even-spacing rounds"
+
 # A stage stopped at its cap says so on stderr, even with --quiet.
 if expect_ok capped consolidate "$tmp/torus.ply" -o "$tmp/capped" --samples $m --wlop-iters 2 --quiet; then
 	if grep -q "warning: stopped at the iteration cap before converging: wlop" "$tmp/capped.err"; then

@@ -231,6 +231,11 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
 		 NULL},
 		{"--level-iters", CLI_INT, &p->refine.level_iters, "surface iterations per refined level", NULL, NULL},
+		{"--even-rounds", CLI_INT, &p->refine.even_rounds,
+		 "after the last level, rounds that move points from the densest places to the widest gaps (even "
+		 "spacing; more flips where the completion is guessed, see README)", NULL, NULL},
+		{"--even-iters", CLI_INT, &p->refine.even_iters, "surface iterations relaxing each even-spacing round",
+		 NULL, NULL},
 		{"--samples-floor", CLI_SIZE, &p->refine.samples_floor,
 		 "default count: max(ratio * input, this), at most the distinct input points", NULL, NULL},
 		{"--data-term", CLI_CHOICE, &data_term,

@@ -19,6 +19,8 @@ static int cap_of(const dp_cli_progress_state *st, const char *stage)
 		return p->skeleton.max_iters;
 	if (strcmp(stage, "surface") == 0)
 		return st->runs > 1 ? p->refine.level_iters : p->surface.max_iters;
+	if (strcmp(stage, "even") == 0)
+		return p->refine.even_iters;
 	return 0;
 }
 
@@ -28,6 +30,10 @@ static const char *label(const dp_cli_progress_state *st, char *buf, size_t size
 {
 	if (strcmp(st->stage, "surface") == 0 && st->runs > 1) {
 		snprintf(buf, size, "level %d", st->runs - 1);
+		return buf;
+	}
+	if (strcmp(st->stage, "even") == 0) {
+		snprintf(buf, size, "even %d", st->runs);
 		return buf;
 	}
 	return st->stage;
@@ -40,7 +46,7 @@ static void end_line(const dp_cli_progress_state *st)
 	const char *why;
 	/* a stage that ran to its cap may have met its test in the last
 	 * iteration too; report.json's converged flags settle that */
-	if (strcmp(st->stage, "surface") == 0 && st->runs > 1)
+	if ((strcmp(st->stage, "surface") == 0 && st->runs > 1) || strcmp(st->stage, "even") == 0)
 		why = "fixed iteration count";
 	else if (!cap)
 		why = "done";

@@ -113,6 +113,8 @@ static void json_refine_params(dp_json_writer *w, const dp_refine_params *p)
 	dp_json_num(w, "level_factor", p->level_factor);
 	dp_json_int(w, "level_iters", p->level_iters);
 	dp_json_int(w, "samples_floor", (long long)p->samples_floor);
+	dp_json_int(w, "even_rounds", p->even_rounds);
+	dp_json_int(w, "even_iters", p->even_iters);
 	dp_json_end_object(w);
 }
 
@@ -184,6 +186,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "reattached", (long long)r->surface_stats.reattached);
 	dp_json_int(w, "escaped", (long long)r->surface_stats.escaped);
 	dp_json_int(w, "sheet_points", (long long)r->surface_stats.sheet_points);
+	dp_json_int(w, "even_moved", (long long)r->even_moved);
 	dp_json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);
 	dp_json_num(w, "seconds", r->surface_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->surface_stats.pair_evaluations);

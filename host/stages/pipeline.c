@@ -5,6 +5,7 @@
 #include "knn/knn.h"
 #include "stages/refine.h"
 #include "stages/input_check.h"
+#include "stages/surface.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -31,6 +32,8 @@ void dp_refine_params_default(dp_refine_params *p)
 	p->level_factor = 4.0;
 	p->level_iters = 15;
 	p->samples_floor = 4000;
+	p->even_rounds = 0;
+	p->even_iters = 3;
 }
 
 /* The deep-point count: wlop.samples, or the default rule of
@@ -40,6 +43,9 @@ static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t 
 	if (!(p->refine.level_factor > 1.0 && isfinite(p->refine.level_factor)) || p->refine.level_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "level factor %g (must be > 1) or level iterations %d (must be >= 1) "
 			       "out of range", p->refine.level_factor, p->refine.level_iters);
+	if (p->refine.even_rounds < 0 || p->refine.even_iters < 1)
+		return dp_fail(err, DP_ERR_ARG, "even-spacing rounds %d (must be >= 0) or iterations %d (must be >= 1) "
+			       "out of range", p->refine.even_rounds, p->refine.even_iters);
 	if (p->wlop.samples) {
 		if (p->wlop.samples > UINT32_MAX)
 			return dp_fail(err, DP_ERR_ARG, "%zu deep points: more than 32-bit indices reach",
@@ -61,14 +67,9 @@ static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t 
 	return DP_OK;
 }
 
-static void add_level(dp_result *res, size_t points, double r, const dp_surface_stats *st)
+/* Adds one run of the surface stage to the whole stage's counts. */
+static void add_run(dp_result *res, const dp_surface_stats *st)
 {
-	dp_level_stats *l = &res->level[res->levels++];
-	l->points = points;
-	l->r = r;
-	l->iterations = st->iterations;
-	l->seconds = st->seconds;
-	l->pair_evaluations = st->pair_evaluations;
 	dp_surface_stats *all = &res->surface_stats;
 	all->iterations += st->iterations;
 	all->seconds += st->seconds;
@@ -78,6 +79,17 @@ static void add_level(dp_result *res, size_t points, double r, const dp_surface_
 	all->sheet_points += st->sheet_points;
 	all->normals_disagreeing = st->normals_disagreeing;
 	all->last_mean_move = st->last_mean_move;
+}
+
+static void add_level(dp_result *res, size_t points, double r, const dp_surface_stats *st)
+{
+	dp_level_stats *l = &res->level[res->levels++];
+	l->points = points;
+	l->r = r;
+	l->iterations = st->iterations;
+	l->seconds = st->seconds;
+	l->pair_evaluations = st->pair_evaluations;
+	add_run(res, st);
 }
 
 /* Copies the first n rows of src into dst, which has room for them. */
@@ -150,7 +162,7 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 			st = dp_mean_spacing(res->surface.n, res->surface.x, res->surface.y, res->surface.z, &res->r,
 					     err);
 		dp_surface_stats sst = {0};
-		relax.sheet_points = params->surface.sheet_points && l == levels - 1;
+		relax.sheet_points = params->surface.sheet_points && l == levels - 1 && params->refine.even_rounds == 0;
 		if (st == DP_OK)
 			st = dp_surface(ctx, input, &res->surface, &res->skeleton, balls, res->r, &relax, &out, res->eta,
 					&sst, err);
@@ -159,6 +171,35 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 		copy_rows(&res->surface, &out, out.n);
 		dp_cloud_free(&out);
 		add_level(res, res->surface.n, res->r, &sst);
+	}
+	return DP_OK;
+}
+
+/* The even-spacing rounds (dp_refine_params.even_rounds) after the last
+ * level, at its spacing r: the step they even out is between regions many r
+ * apart, which the spacing of neither measures. */
+static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_params *params, const dp_balls *balls,
+			  dp_result *res, dp_error *err)
+{
+	int rounds = params->refine.even_rounds;
+	dp_surface_params relax = params->surface;
+	relax.max_iters = params->refine.even_iters;
+	relax.window = params->refine.even_iters;
+	for (int round = 0; round < rounds; round++) {
+		size_t moved = 0;
+		dp_cloud out = {0};
+		dp_surface_stats sst = {0};
+		dp_status st = dp_refine_even(&res->surface, &res->skeleton, &moved, err);
+		relax.sheet_points = params->surface.sheet_points && round == rounds - 1;
+		if (st == DP_OK)
+			st = dp_surface_as(ctx, "even", input, &res->surface, &res->skeleton, balls, res->r, &relax, &out,
+					   res->eta, &sst, err);
+		if (st != DP_OK)
+			return st;
+		copy_rows(&res->surface, &out, out.n);
+		dp_cloud_free(&out);
+		res->even_moved += moved;
+		add_run(res, &sst);
 	}
 	return DP_OK;
 }
@@ -286,7 +327,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	/* points stranded in a sheet move once, after the last level: moved
 	 * earlier, insertion and relaxing take them back into it */
 	dp_surface_params coarse_params = params->surface;
-	coarse_params.sheet_points = params->surface.sheet_points && levels == 1;
+	coarse_params.sheet_points = params->surface.sheet_points && levels == 1 && params->refine.even_rounds == 0;
 	if (st == DP_OK)
 		st = dp_surface(ctx, input, &res->wlop, &res->skeleton, balls, res->r, &coarse_params, &coarse,
 				res->eta, &sst, err);
@@ -305,6 +346,8 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		goto fail;
 	}
 	st = refine(ctx, input, params, counts, levels, balls, res, err);
+	if (st == DP_OK)
+		st = even_out(ctx, input, params, balls, res, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "refine");
 		goto fail;

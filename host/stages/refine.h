@@ -18,6 +18,19 @@
  */
 dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target, size_t *added, dp_error *err);
 
+/*
+ * One even-spacing round (dp_refine_params.even_rounds): inserts up to a
+ * tenth of n midpoints of edges that span gaps (much longer than the median,
+ * as dp_refine_insert takes first), longest first, then removes as many
+ * points where the spacing is densest, none two neighbours,
+ * each only where its spacing is well below the even spacing of the same
+ * points over the same area. The count stays n and rows keep step: a removed
+ * surface row takes its skeleton row with it. Rows may be reordered. *moved
+ * receives how many points were removed (and so moved elsewhere). The caller
+ * relaxes the result.
+ */
+dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, size_t *moved, dp_error *err);
+
 /* The count of each level: `levels` (>= 1) levels from coarse to target with
  * the same growth factor each, counts[levels - 1] = target. */
 int dp_refine_levels(size_t coarse, size_t target, double level_factor, size_t *counts, int max_levels);

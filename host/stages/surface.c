@@ -30,6 +30,7 @@
 #include "backend/ops.h"
 #include "stages/balls.h"
 #include "stages/sheet_points.h"
+#include "stages/surface.h"
 #include "core/common.h"
 #include "core/distinct.h"
 #include "core/eig3.h"
@@ -613,9 +614,9 @@ static int stop_test(const work *w, size_t n, int t, const dp_surface_params *p)
 	       cv_new > (1.0 - p->min_growth) * cv_old;
 }
 
-static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *samples, dp_cloud *skeleton,
-		     const dp_balls *balls, double r, const dp_surface_params *p, work *w, dp_surface_stats *st,
-		     dp_error *err)
+static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, const dp_cloud *samples,
+		     dp_cloud *skeleton, const dp_balls *balls, double r, const dp_surface_params *p, work *w,
+		     dp_surface_stats *st, dp_error *err)
 {
 	size_t n = samples->n;
 	float **a = w->a;
@@ -722,7 +723,7 @@ static dp_status run(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		st->normals_disagreeing = update_normals(ctx->threads, w, n, r, p->orient_by_dpoint);
 		st->iterations = t;
 		st->last_mean_move = w->move[t];
-		if ((s = dp_progress(ctx, "surface", t, w->move[t], err)) != DP_OK)
+		if ((s = dp_progress(ctx, stage, t, w->move[t], err)) != DP_OK)
 			return s;
 		if (stop_test(w, n, t, p)) {
 			st->converged = 1;
@@ -764,6 +765,13 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		     const dp_balls *balls, double r, const dp_surface_params *params, dp_cloud *surface,
 		     float *eta, dp_surface_stats *stats, dp_error *err)
 {
+	return dp_surface_as(ctx, "surface", input, samples, skeleton, balls, r, params, surface, eta, stats, err);
+}
+
+dp_status dp_surface_as(dp_context *ctx, const char *stage, const dp_cloud *input, const dp_cloud *samples,
+			dp_cloud *skeleton, const dp_balls *balls, double r, const dp_surface_params *params,
+			dp_cloud *surface, float *eta, dp_surface_stats *stats, dp_error *err)
+{
 	double t0 = dp_seconds();
 	dp_surface_params defaults;
 	if (!params) {
@@ -781,7 +789,7 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		return s;
 	dp_surface_stats st = {0};
 	double pairs0 = ctx->pair_evaluations;
-	s = run(ctx, input, samples, skeleton, balls, r, params, &w, &st, err);
+	s = run(ctx, stage, input, samples, skeleton, balls, r, params, &w, &st, err);
 	if (s == DP_OK)
 		s = dp_cloud_alloc(surface, n, 1, err);
 	if (s == DP_OK) {

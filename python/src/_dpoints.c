@@ -64,6 +64,7 @@ static const param_field PARAMS[] = {
 	F(surface, min_move_r, P_DOUBLE), F(surface, sheet_points, P_INT),
 	F(refine, coarse_samples, P_SIZE), F(refine, level_factor, P_DOUBLE),
 	F(refine, level_iters, P_INT),    F(refine, samples_floor, P_SIZE),
+	F(refine, even_rounds, P_INT),    F(refine, even_iters, P_INT),
 };
 #undef F
 #define NPARAMS (sizeof PARAMS / sizeof PARAMS[0])
