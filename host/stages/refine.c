@@ -299,13 +299,14 @@ int dp_refine_levels(size_t coarse, size_t target, double level_factor, size_t *
 
 /* Share of the points one even-spacing round moves at most: 0.05 left the
  * one-view bunny's spacing variation at 0.44 after 3 rounds, 0.1 took it to
- * 0.35 (with 15 relaxing iterations per round, WLOP seeds 1-6). */
+ * 0.35 (WLOP seeds 1-6, on a draft that relaxed 15 iterations per round and
+ * counted the new midpoints in the density; README (33)). */
 #define EVEN_MOVE_FRACTION 0.1
 /* A point is removed only where its local spacing is below this fraction of
  * the even spacing the same points would have over the same area: the
  * one-view bunny's scanned side sits at about 0.73 of it, its completed side
  * above 1. At 0.7 the scanned side was barely thinned (spacing variation 0.38
- * against 0.35). */
+ * against 0.35, the same draft). */
 #define EVEN_DENSE 0.85
 
 typedef struct spaced {
