@@ -75,7 +75,7 @@ cp "$tmp/example.c" "$tmp/consumer/example.c"
 cat >"$tmp/consumer/CMakeLists.txt" <<'CMAKE'
 cmake_minimum_required(VERSION 3.18)
 project(consumer C)
-find_package(dpoints 0.5 REQUIRED)
+find_package(dpoints 0.6 REQUIRED)
 add_executable(cmake_shared example.c)
 target_link_libraries(cmake_shared PRIVATE dpoints::dpoints)
 add_executable(cmake_static example.c)
