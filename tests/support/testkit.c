@@ -96,6 +96,18 @@ void tk_assert_close(const float *a, const float *b, size_t n, float rtol, float
 			 (double)a[worst], (double)b[worst]);
 }
 
+void tk_assert_rows_in_step(const dp_result *res, size_t n)
+{
+	assert_int_equal(res->surface.n, n);
+	assert_int_equal(res->skeleton.n, n);
+	for (size_t i = 0; i < n; i++) {
+		float m[3] = {res->surface.x[i] - res->skeleton.x[i], res->surface.y[i] - res->skeleton.y[i],
+			      res->surface.z[i] - res->skeleton.z[i]};
+		float len = sqrtf(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+		assert_true(fabsf(len - res->length[i]) <= 1e-4f * (1.0f + len));
+	}
+}
+
 static int tk_data_missing;
 
 int tk_exit_status(int failed)

@@ -29,6 +29,10 @@ size_t tk_random_points(dp_rng *rng, size_t n_uniform, float extent, float cell,
 /* Asserts |a-b| <= atol + rtol*|b| element-wise and prints the worst index. */
 void tk_assert_close(const float *a, const float *b, size_t n, float rtol, float atol, const char *what);
 
+/* Asserts that a result's surface and skeleton have n rows each and that
+ * every row's length is |p - q|. */
+void tk_assert_rows_in_step(const dp_result *res, size_t n);
+
 /* Path of a file in the shared data folder, or NULL (and a printed message)
  * when the folder is absent: callers then skip(). Static buffer. */
 const char *tk_data_path(const char *relative);
