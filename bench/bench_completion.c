@@ -12,6 +12,9 @@
  *            pair evaluations per level, so its growth with the count shows;
  *   bunny1, bunny2  the real Stanford bunny, bun000 alone and bun000 +
  *            bun180 in the ground-truth frame, at the default deep-point count;
+ *   heldout  the bunny's other scans, which no default was chosen on: bun090,
+ *            bun180 and bun270 alone, and bun090 + bun270 (two opposite
+ *            views, as bunny2, turned a quarter round);
  *   chair    the demo's chair (two views, 256 x 256 rays, noise 0.003), and
  *            its legs: whether each stays a tube in the surface and a curve
  *            in the skeleton (legs below); and its seat, scanned from above
@@ -58,6 +61,7 @@
 #include <string.h>
 
 #define DEFAULT_SAMPLES "2000,8000,32000"
+#define BUNNY_MAX_VIEWS 2
 #define MAX_SIZES 8
 #define NOISE 0.003
 /* One-view sphere scans keep about 4 raw points per deep point. */
@@ -639,10 +643,11 @@ static int read_view(const char *dir, const char *name, dp_cloud *view)
 	return 0;
 }
 
-static int run_bunny(dp_context *ctx, const options *o, int views)
+/* Scans of the bunny posed into the ground-truth frame and merged, judged as
+ * case `name`; skipped, with a message, without the data. */
+static int run_bunny(dp_context *ctx, const options *o, const char *name, int views, const char *const *scans)
 {
-	const char *names[2] = {"bun000.ply", "bun180.ply"};
-	dp_cloud mesh = {0}, v[2] = {{0}, {0}}, both = {0};
+	dp_cloud mesh = {0}, v[BUNNY_MAX_VIEWS] = {{0}}, all = {0};
 	dp_error err = {0};
 	char path[4096];
 	snprintf(path, sizeof path, "%s/stanford-bunny/bun_zipper_res2.ply", o->data);
@@ -651,30 +656,27 @@ static int run_bunny(dp_context *ctx, const options *o, int views)
 		fprintf(stderr, "bench_completion: bunny skipped: %s\n", err.message);
 		return 0;
 	}
-	for (int i = 0; i < views; i++)
-		if (read_view(o->data, names[i], &v[i])) {
-			fprintf(stderr, "bench_completion: bunny skipped: cannot read %s with its pose\n", names[i]);
+	size_t total = 0;
+	for (int i = 0; i < views; i++) {
+		if (read_view(o->data, scans[i], &v[i])) {
+			fprintf(stderr, "bench_completion: %s skipped: cannot read %s with its pose\n", name, scans[i]);
 			goto out;
 		}
-	const dp_cloud *in = &v[0];
-	if (views == 2) {
-		if (dp_cloud_alloc(&both, v[0].n + v[1].n, 0, &err) != DP_OK) {
-			rc = -1;
-			goto out;
-		}
-		for (size_t i = 0; i < both.n; i++) {
-			const dp_cloud *s = i < v[0].n ? &v[0] : &v[1];
-			size_t j = i < v[0].n ? i : i - v[0].n;
-			both.x[i] = s->x[j], both.y[i] = s->y[j], both.z[i] = s->z[j];
-		}
-		in = &both;
+		total += v[i].n;
 	}
-	rc = run(ctx, views == 1 ? "bunny_one_view" : "bunny_two_views", &mesh, in, 0);
+	if (dp_cloud_alloc(&all, total, 0, &err) != DP_OK) {
+		rc = -1;
+		goto out;
+	}
+	for (int i = 0, k = 0; i < views; i++)
+		for (size_t j = 0; j < v[i].n; j++, k++)
+			all.x[k] = v[i].x[j], all.y[k] = v[i].y[j], all.z[k] = v[i].z[j];
+	rc = run(ctx, name, &mesh, &all, 0);
 out:
 	dp_cloud_free(&mesh);
-	dp_cloud_free(&v[0]);
-	dp_cloud_free(&v[1]);
-	dp_cloud_free(&both);
+	for (int i = 0; i < views; i++)
+		dp_cloud_free(&v[i]);
+	dp_cloud_free(&all);
 	return rc;
 }
 
@@ -763,7 +765,7 @@ static int run_lamppost(dp_context *ctx)
 static int parse(int argc, char **argv, options *o)
 {
 	const char *sizes = DEFAULT_SAMPLES;
-	o->cases = "sphere,bunny1,bunny2,chair,rods,statue,lamppost";
+	o->cases = "sphere,bunny1,bunny2,heldout,chair,rods,statue,lamppost";
 	o->data = getenv("DP_DATA_DIR") ? getenv("DP_DATA_DIR") : "../shared/data";
 	o->device = NULL;
 	o->save = NULL;
@@ -820,7 +822,7 @@ int main(int argc, char **argv)
 	options o;
 	opts = &o;
 	if (parse(argc, argv, &o)) {
-		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,chair,rods,statue,lamppost] "
+		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,heldout,chair,rods,statue,lamppost] "
 				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] "
 				"[--surface-iters N] [--wlop-seed S] [--sink-depth 0|1] [--even-rounds N]\n");
 		return 2;
@@ -838,10 +840,18 @@ int main(int argc, char **argv)
 		snprintf(name, sizeof name, "one_view_sphere_%zu", o.samples[i]);
 		rc |= run_shape(ctx, "sphere", 1, res_rays, o.samples[i], &o, name);
 	}
+	static const char *const front[] = {"bun000.ply"}, *const front_back[] = {"bun000.ply", "bun180.ply"},
+			       *const sides[] = {"bun090.ply", "bun270.ply"}, *const back[] = {"bun180.ply"};
 	if (wanted(&o, "bunny1"))
-		rc |= run_bunny(ctx, &o, 1);
+		rc |= run_bunny(ctx, &o, "bunny_one_view", 1, front);
 	if (wanted(&o, "bunny2"))
-		rc |= run_bunny(ctx, &o, 2);
+		rc |= run_bunny(ctx, &o, "bunny_two_views", 2, front_back);
+	if (wanted(&o, "heldout")) {
+		rc |= run_bunny(ctx, &o, "bunny_one_view_bun090", 1, sides);
+		rc |= run_bunny(ctx, &o, "bunny_one_view_bun180", 1, back);
+		rc |= run_bunny(ctx, &o, "bunny_one_view_bun270", 1, sides + 1);
+		rc |= run_bunny(ctx, &o, "bunny_two_views_bun090_bun270", 2, sides);
+	}
 	if (wanted(&o, "chair"))
 		rc |= run_shape(ctx, "chair", CHAIR_VIEWS, CHAIR_RES, 0, &o, "chair");
 	if (wanted(&o, "rods"))
