@@ -69,18 +69,18 @@ for module in dpoints-static dpoints; do
 	fi
 done
 
-# find_package: one program per target
+# find_package: the README's CMake block as it stands (its version request
+# included), then the same program against the static target
 mkdir "$tmp/consumer"
 cp "$tmp/example.c" "$tmp/consumer/example.c"
-cat >"$tmp/consumer/CMakeLists.txt" <<'CMAKE'
-cmake_minimum_required(VERSION 3.18)
-project(consumer C)
-find_package(dpoints 0.6 REQUIRED)
-add_executable(cmake_shared example.c)
-target_link_libraries(cmake_shared PRIVATE dpoints::dpoints)
-add_executable(cmake_static example.c)
-target_link_libraries(cmake_static PRIVATE dpoints::dpoints_static)
-CMAKE
+{
+	printf 'cmake_minimum_required(VERSION 3.18)\nproject(consumer C)\n'
+	awk '/^```cmake$/ { on = 1; next } on && /^```$/ { exit } on { print }' "$source_dir/README.md" |
+		sed 's/add_executable(app /add_executable(cmake_shared /; s/target_link_libraries(app /target_link_libraries(cmake_shared /'
+	printf 'add_executable(cmake_static example.c)\ntarget_link_libraries(cmake_static PRIVATE dpoints::dpoints_static)\n'
+} >"$tmp/consumer/CMakeLists.txt"
+grep -q '^find_package(dpoints ' "$tmp/consumer/CMakeLists.txt" && grep -q 'add_executable(cmake_shared ' "$tmp/consumer/CMakeLists.txt" ||
+	fail "no CMake consumer (a \`\`\`cmake block with find_package(dpoints ...) and add_executable(app ...)) in $source_dir/README.md"
 if cmake -S "$tmp/consumer" -B "$tmp/consumer/build" -DCMAKE_PREFIX_PATH="$prefix" >"$tmp/consumer.log" 2>&1 &&
 	cmake --build "$tmp/consumer/build" >>"$tmp/consumer.log" 2>&1; then
 	cp "$tmp/consumer/build/cmake_shared" "$tmp/consumer/build/cmake_static" "$tmp/"

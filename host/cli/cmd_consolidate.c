@@ -94,7 +94,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
 	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
-	int any_side = 0, old_orient = 0, along = 0, no_sheet_points = 0;
+	int any_side = 0, old_orient = 0, along = 0, no_sheet_points = 0, no_silhouette = 0;
 	const char *samples = NULL;
 	const char *list_file = NULL, *shard_text = NULL;
 	int skip_done = 0, up_given = 0;
@@ -226,6 +226,17 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--no-sheet-points", CLI_FLAG, &no_sheet_points,
 		 "leave completed points that came to rest in a skeletal sheet (a plate's middle, their normals along "
 		 "it) where they are, instead of moving them across it to the plate's face", NULL, NULL},
+		{"--no-silhouette", CLI_FLAG, &no_silhouette,
+		 "let completed points leave the scan's outline seen along its view axis (README \"Completion\")", NULL,
+		 NULL},
+		{"--view-axis", CLI_VEC3, p->surface.silhouette_axis,
+		 "the scanner's view axis, whose outline holds the completed points (default: found from the normals, "
+		 "if there is one)", NULL, NULL},
+		{"--silhouette-margin", CLI_DOUBLE, &p->surface.silhouette_margin_r,
+		 "growth of the scan's outline, in r", NULL, NULL},
+		{"--silhouette-grazing", CLI_DOUBLE, &p->surface.silhouette_grazing,
+		 "a view axis is a direction to which at most this fraction of the normals lie within 10 degrees of "
+		 "perpendicular", NULL, NULL},
 		{"--coarse-samples", CLI_COUNT, &p->refine.coarse_samples,
 		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
@@ -296,6 +307,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->skeleton.across_only = !along;
 	p->surface.orient_by_dpoint = !old_orient;
 	p->surface.sheet_points = !no_sheet_points;
+	p->surface.silhouette = !no_silhouette;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
 	dp_cli_list all = {0}, devices = {0};

@@ -788,6 +788,17 @@ typedef struct dp_surface_params {
 	                             depth of the deep points near it that leave the sheet (a point stranded
 	                             in a plate's middle; host/stages/sheet_points.h; dp_consolidate does it
 	                             after the last level only); default 1 */
+	int silhouette;           /* 1: hold every point inside the scan's outline seen along its view axis, grown
+	                             by silhouette_margin_r: a scanner looking along an axis records all of the
+	                             object that faces it, so nothing completion adds lies outside what the scan
+	                             covers seen that way (host/stages/silhouette.h); moves are across the axis
+	                             only. No axis, no outline. Default 1 */
+	double silhouette_axis[3]; /* the view axis (any length > 0; opposite views share it); all zero (default):
+	                             the direction to which at most silhouette_grazing of the samples' normals lie
+	                             within 10° of perpendicular, if one is (a scanner sees grazing surfaces worst),
+	                             among at least 1000 samples; else none */
+	double silhouette_grazing; /* in [0, 1]; default 0.065 (normals spread over every direction: about 0.17) */
+	double silhouette_margin_r; /* growth of the outline, r, >= 0; default 3 */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);
@@ -803,6 +814,10 @@ typedef struct dp_surface_stats {
 	                               the others by m) */
 	size_t escaped;          /* points moved out of a ball by the inside test, over all iterations */
 	size_t sheet_points;     /* points moved across a skeletal sheet (sheet_points) */
+	double silhouette_axis[3]; /* the axis of the outline the points were held in; all zero: none */
+	double silhouette_grazing; /* the fraction of normals near perpendicular to the best axis tried; -1 when
+	                              the axis was given, 1 with fewer than 1000 samples */
+	size_t silhouette_held;  /* points held back at the outline, over all iterations */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
 } dp_surface_stats;
@@ -977,6 +992,8 @@ typedef struct dp_result {
 	dp_backend_kind backend;
 	char device[DP_DEVICE_NAME_MAX]; /* dp_context_device_name of the context it ran on */
 	size_t even_moved;  /* points the even-spacing rounds moved (dp_refine_params.even_rounds) */
+	size_t silhouette_capped; /* anchors raised to the scan outline's inset (dp_surface_params.silhouette):
+	                             the ball an anchor centres lies inside the body, so inside the outline */
 } dp_result;
 
 /*

@@ -103,6 +103,13 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_bool(w, "same_side", p->same_side);
 	dp_json_bool(w, "orient_by_dpoint", p->orient_by_dpoint);
 	dp_json_bool(w, "sheet_points", p->sheet_points);
+	dp_json_bool(w, "silhouette", p->silhouette);
+	dp_json_array(w, "silhouette_axis");
+	for (int c = 0; c < 3; c++)
+		dp_json_num(w, NULL, p->silhouette_axis[c]);
+	dp_json_end_array(w);
+	dp_json_num(w, "silhouette_grazing", p->silhouette_grazing);
+	dp_json_num(w, "silhouette_margin_r", p->silhouette_margin_r);
 	dp_json_end_object(w);
 }
 
@@ -186,7 +193,14 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "reattached", (long long)r->surface_stats.reattached);
 	dp_json_int(w, "escaped", (long long)r->surface_stats.escaped);
 	dp_json_int(w, "sheet_points", (long long)r->surface_stats.sheet_points);
+	dp_json_array(w, "silhouette_axis");
+	for (int c = 0; c < 3; c++)
+		dp_json_num(w, NULL, r->surface_stats.silhouette_axis[c]);
+	dp_json_end_array(w);
+	dp_json_num(w, "silhouette_grazing", r->surface_stats.silhouette_grazing);
+	dp_json_int(w, "silhouette_held", (long long)r->surface_stats.silhouette_held);
 	dp_json_int(w, "even_moved", (long long)r->even_moved);
+	dp_json_int(w, "silhouette_capped", (long long)r->silhouette_capped);
 	dp_json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);
 	dp_json_num(w, "seconds", r->surface_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->surface_stats.pair_evaluations);

@@ -4,6 +4,7 @@
 #include "core/distinct.h"
 #include "knn/knn.h"
 #include "stages/refine.h"
+#include "stages/silhouette.h"
 #include "stages/input_check.h"
 #include "stages/surface.h"
 
@@ -36,9 +37,8 @@ void dp_refine_params_default(dp_refine_params *p)
 	p->even_iters = 3;
 }
 
-/* The deep-point count: wlop.samples, or the default rule of
- * dp_refine_params. */
-static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t *m, dp_error *err)
+/* The pipeline's own parameters (each stage checks its own). */
+static dp_status check_params(const dp_params *p, dp_error *err)
 {
 	if (!(p->refine.level_factor > 1.0 && isfinite(p->refine.level_factor)) || p->refine.level_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "level factor %g (must be > 1) or level iterations %d (must be >= 1) "
@@ -46,6 +46,19 @@ static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t 
 	if (p->refine.even_rounds < 0 || p->refine.even_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "even-spacing rounds %d (must be >= 0) or iterations %d (must be >= 1) "
 			       "out of range", p->refine.even_rounds, p->refine.even_iters);
+	const dp_surface_params *s = &p->surface;
+	if (!(s->silhouette_margin_r >= 0.0 && isfinite(s->silhouette_margin_r)) ||
+	    !(s->silhouette_grazing >= 0.0 && s->silhouette_grazing <= 1.0) || !isfinite(s->silhouette_axis[0]) ||
+	    !isfinite(s->silhouette_axis[1]) || !isfinite(s->silhouette_axis[2]))
+		return dp_fail(err, DP_ERR_ARG, "silhouette margin %g r (must be >= 0), grazing fraction %g (must be in "
+			       "[0, 1]) or view axis out of range", s->silhouette_margin_r, s->silhouette_grazing);
+	return DP_OK;
+}
+
+/* The deep-point count: wlop.samples, or the default rule of
+ * dp_refine_params. */
+static dp_status target_count(const dp_cloud *input, const dp_params *p, size_t *m, dp_error *err)
+{
 	if (p->wlop.samples) {
 		if (p->wlop.samples > UINT32_MAX)
 			return dp_fail(err, DP_ERR_ARG, "%zu deep points: more than 32-bit indices reach",
@@ -77,6 +90,7 @@ static void add_run(dp_result *res, const dp_surface_stats *st)
 	all->reattached += st->reattached;
 	all->escaped += st->escaped;
 	all->sheet_points += st->sheet_points;
+	all->silhouette_held += st->silhouette_held;
 	all->normals_disagreeing = st->normals_disagreeing;
 	all->last_mean_move = st->last_mean_move;
 }
@@ -204,6 +218,45 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
 	return DP_OK;
 }
 
+/* The scan's outline (silhouette.h): its axis, given or found from the WLOP
+ * samples' normals, goes to every surface run (axis_out; all zero: none),
+ * and each anchor deeper than the outline's inset is raised to it. */
+static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params *p, dp_result *res,
+				 double axis_out[3], dp_error *err)
+{
+	axis_out[0] = axis_out[1] = axis_out[2] = 0.0;
+	if (!p->silhouette)
+		return DP_OK;
+	const double *g = p->silhouette_axis;
+	double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+	float axis[3];
+	int found = len > 0.0;
+	if (found) {
+		for (int c = 0; c < 3; c++)
+			axis[c] = (float)(g[c] / len);
+		res->surface_stats.silhouette_grazing = -1.0;
+	} else {
+		dp_silhouette_axis(res->wlop.n, res->wlop.nx, res->wlop.ny, res->wlop.nz, p->silhouette_grazing, &found,
+				   axis, &res->surface_stats.silhouette_grazing);
+	}
+	if (!found)
+		return DP_OK;
+	dp_silhouette outline = {0};
+	dp_status st = dp_silhouette_build(&outline, input, axis, res->r, p->silhouette_margin_r * res->r, err);
+	for (size_t i = 0; st == DP_OK && i < res->anchors.n; i++) {
+		float at[3] = {res->wlop.x[i], res->wlop.y[i], res->wlop.z[i]};
+		float q[3] = {res->anchors.x[i], res->anchors.y[i], res->anchors.z[i]};
+		if (dp_silhouette_cap(&outline, at, q)) {
+			res->anchors.x[i] = q[0], res->anchors.y[i] = q[1], res->anchors.z[i] = q[2];
+			res->silhouette_capped++;
+		}
+	}
+	dp_silhouette_free(&outline);
+	for (int c = 0; c < 3; c++)
+		axis_out[c] = axis[c];
+	return st;
+}
+
 void dp_result_free(dp_result *r)
 {
 	if (!r)
@@ -251,7 +304,10 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	snprintf(res->device, sizeof res->device, "%s", dp_context_device_name(ctx));
 	size_t target = 0, counts[DP_MAX_LEVELS];
 	float *ball_radius = NULL;
-	dp_status st = target_count(input, params, &target, err);
+	dp_status st = check_params(params, err);
+	if (st != DP_OK)
+		goto fail;
+	st = target_count(input, params, &target, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "deep-point count");
 		goto fail;
@@ -302,6 +358,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "sink");
 		goto fail;
 	}
+	double axis[3];
+	st = outline_anchors(input, &params->surface, res, axis, err);
+	if (st != DP_OK) {
+		in_stage(err, st, "sink");
+		goto fail;
+	}
 	st = dp_skeleton(ctx, &res->anchors, res->r, &params->skeleton, &res->skeleton, &res->skeleton_stats, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "skeleton");
@@ -326,7 +388,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	dp_balls sunk = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius}, *balls = escaping ? &sunk : NULL;
 	/* points stranded in a sheet move once, after the last level: moved
 	 * earlier, insertion and relaxing take them back into it */
-	dp_surface_params coarse_params = params->surface;
+	/* every surface run holds its points in the outline found above: the
+	 * levels' samples are the completed surface, whose normals face every way */
+	dp_params later = *params;
+	memcpy(later.surface.silhouette_axis, axis, sizeof axis);
+	later.surface.silhouette = axis[0] != 0.0 || axis[1] != 0.0 || axis[2] != 0.0;
+	dp_surface_params coarse_params = later.surface;
 	coarse_params.sheet_points = params->surface.sheet_points && levels == 1 && params->refine.even_rounds == 0;
 	if (st == DP_OK)
 		st = dp_surface(ctx, input, &res->wlop, &res->skeleton, balls, res->r, &coarse_params, &coarse,
@@ -337,6 +404,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		add_level(res, n0, res->r, &sst);
 		res->surface_stats.converged = sst.converged;
 		res->surface_stats.spacing_growth = sst.spacing_growth;
+		memcpy(res->surface_stats.silhouette_axis, sst.silhouette_axis, sizeof sst.silhouette_axis);
 	}
 	dp_cloud_free(&coarse);
 	dp_cloud_free(&res->skeleton);
@@ -345,9 +413,9 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "surface");
 		goto fail;
 	}
-	st = refine(ctx, input, params, counts, levels, balls, res, err);
+	st = refine(ctx, input, &later, counts, levels, balls, res, err);
 	if (st == DP_OK)
-		st = even_out(ctx, input, params, balls, res, err);
+		st = even_out(ctx, input, &later, balls, res, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "refine");
 		goto fail;

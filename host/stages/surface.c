@@ -30,6 +30,7 @@
 #include "backend/ops.h"
 #include "stages/balls.h"
 #include "stages/sheet_points.h"
+#include "stages/silhouette.h"
 #include "stages/surface.h"
 #include "core/common.h"
 #include "core/distinct.h"
@@ -120,6 +121,15 @@ void dp_surface_params_default(dp_surface_params *p)
 	 * 0.0136 -> 0.974 / 1.05% / 0.23 / 0.0120; the one- and two-view
 	 * bunnies unchanged. */
 	p->sheet_points = 1;
+	p->silhouette = 1;
+	p->silhouette_axis[0] = p->silhouette_axis[1] = p->silhouette_axis[2] = 0.0;
+	/* between the bunny's scans (0.005-0.055) and the data folder's
+	 * complete ones (0.077 and more): silhouette.h */
+	p->silhouette_grazing = 0.065;
+	/* the smallest margin within which every sample of the bunny's true
+	 * surface lay inside the outline of each of its six one- and two-view
+	 * scans (2 r: 0.00-0.28% outside) */
+	p->silhouette_margin_r = 3.0;
 }
 
 /* Working arrays, one allocation each, reused by every iteration. */
@@ -137,6 +147,7 @@ typedef struct work {
 	int32_t *best;
 	int32_t *escape;        /* per point: the ball it leaves this iteration, or -1 */
 	dp_ball_set balls;
+	dp_silhouette outline;  /* zero when not held to one */
 	uint32_t *of;           /* skeleton merge: first point of each merged position */
 	double *move, *spacing; /* per iteration (in r), for the stopping test */
 	double *cv;             /* per iteration: variation of the NN spacing (std / mean) */
@@ -152,6 +163,7 @@ static void work_free(work *w)
 	free(w->best);
 	free(w->escape);
 	dp_ball_set_free(&w->balls);
+	dp_silhouette_free(&w->outline);
 	free(w->of);
 	free(w->move);
 	free(w->spacing);
@@ -235,6 +247,9 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 	    !(p->escape_margin_r >= 0.0) || !isfinite(p->escape_margin_r * r) ||
 	    !(p->end_smoothing_r >= 0.0) || !isfinite(p->end_smoothing_r * r) ||
 	    (p->prior != DP_SURFACE_PRIOR_VOLUME && p->prior != DP_SURFACE_PRIOR_MINIMAL) ||
+	    !(p->silhouette_grazing >= 0.0 && p->silhouette_grazing <= 1.0) || !(p->silhouette_margin_r >= 0.0) ||
+	    !isfinite(p->silhouette_margin_r * r) || !isfinite(p->silhouette_axis[0]) ||
+	    !isfinite(p->silhouette_axis[1]) || !isfinite(p->silhouette_axis[2]) ||
 	    !isfinite(p->sigma_p * r) || !isfinite(p->normal_radius_r * r) || !isfinite(p->reattach_radius_r * r))
 		return dp_fail(err, DP_ERR_ARG, "surface: a parameter is out of range");
 	if (!finite3(input->n, input->x, input->y, input->z))
@@ -614,6 +629,30 @@ static int stop_test(const work *w, size_t n, int t, const dp_surface_params *p)
 	       cv_new > (1.0 - p->min_growth) * cv_old;
 }
 
+/* The outline the points are held in (silhouette.h), along the axis given or,
+ * with none, the one the samples' normals (unit, in A_N*) show, if any. */
+static dp_status outline(work *w, const dp_cloud *input, size_t n, double r, const dp_surface_params *p,
+			 dp_surface_stats *st, dp_error *err)
+{
+	const double *g = p->silhouette_axis;
+	double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+	float axis[3];
+	int found = len > 0.0;
+	if (found) {
+		for (int c = 0; c < 3; c++)
+			axis[c] = (float)(g[c] / len);
+		st->silhouette_grazing = -1.0;
+	} else {
+		dp_silhouette_axis(n, w->a[A_NX], w->a[A_NY], w->a[A_NZ], p->silhouette_grazing, &found, axis,
+				   &st->silhouette_grazing);
+	}
+	if (!found)
+		return DP_OK;
+	for (int c = 0; c < 3; c++)
+		st->silhouette_axis[c] = axis[c];
+	return dp_silhouette_build(&w->outline, input, axis, r, p->silhouette_margin_r * r, err);
+}
+
 static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, const dp_cloud *samples,
 		     dp_cloud *skeleton, const dp_balls *balls, double r, const dp_surface_params *p, work *w,
 		     dp_surface_stats *st, dp_error *err)
@@ -646,6 +685,8 @@ static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, 
 		return s;
 	int escaping = balls && p->escape_margin_r > 0.0;
 	if (escaping && (s = dp_ball_set_build(&w->balls, balls, (float)(BALL_SLACK_R * r), err)) != DP_OK)
+		return s;
+	if (p->silhouette && (s = outline(w, input, n, r, p, st, err)) != DP_OK)
 		return s;
 
 	dp_surface_data_args data = {
@@ -715,6 +756,10 @@ static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, 
 			st->escaped += escaped;
 			w->moving[t] += escaped;
 		}
+		/* after every other move: a point pushed out and held back each
+		 * iteration is at rest against the outline, not moving */
+		if (w->outline.nearest)
+			st->silhouette_held += dp_silhouette_hold(&w->outline, n, a[A_PX], a[A_PY], a[A_PZ]);
 		if ((s = dp_grid_build(&w->surface, n, a[A_PX], a[A_PY], a[A_PZ], surface_cell, err)) != DP_OK)
 			return s;
 		gather_normals(w);

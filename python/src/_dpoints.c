@@ -62,6 +62,8 @@ static const param_field PARAMS[] = {
 	F(surface, orient_by_dpoint, P_INT), F(surface, window, P_INT),
 	F(surface, min_drop, P_DOUBLE),   F(surface, min_growth, P_DOUBLE),
 	F(surface, min_move_r, P_DOUBLE), F(surface, sheet_points, P_INT),
+	F(surface, silhouette, P_INT),    F(surface, silhouette_axis, P_VEC3),
+	F(surface, silhouette_grazing, P_DOUBLE), F(surface, silhouette_margin_r, P_DOUBLE),
 	F(refine, coarse_samples, P_SIZE), F(refine, level_factor, P_DOUBLE),
 	F(refine, level_iters, P_INT),    F(refine, samples_floor, P_SIZE),
 	F(refine, even_rounds, P_INT),    F(refine, even_iters, P_INT),

@@ -1,0 +1,283 @@
+/* The scan's outline: silhouette.h. */
+#include "stages/silhouette.h"
+#include "core/common.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+/* Directions tried for the axis, over the half-sphere: about 2.6° apart,
+ * finer than the 10° band they are judged by. */
+#define AXIS_DIRECTIONS 2000
+/* |n·axis| below sin 10°: the normal lies within 10° of perpendicular. */
+#define GRAZING_SIN 0.17364817766693033
+/* Every direction that passes must lie within this of the best, or the scan
+ * does not say which it was seen along. The bunny's six scans: every
+ * passing direction within 10-39° of the best. A box-like object leaves
+ * several unrelated directions free of grazing normals (every direction
+ * oblique to all its faces): the demo chair's passing directions reach 90°
+ * from the best, and on its one-view scan the best lay 40° from the eye,
+ * cutting 0.34% of the true surface off (none along the eye's own axis). */
+#define AXIS_UNIQUE_COS 0.7071067811865476
+/* The grid holds at most this many cells; a finer outline is coarsened. */
+#define MAX_CELLS (1 << 24)
+
+void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float *nz, double grazing, int *found,
+			float axis[3], double *fraction)
+{
+	*found = 0;
+	*fraction = 1.0;
+	if (n < DP_SILHOUETTE_MIN_NORMALS)
+		return;
+	float dir[AXIS_DIRECTIONS][3];
+	size_t count[AXIS_DIRECTIONS];
+	double facing[AXIS_DIRECTIONS];
+	int best = 0;
+	const double golden = M_PI * (3.0 - sqrt(5.0));
+	for (int d = 0; d < AXIS_DIRECTIONS; d++) {
+		/* a Fibonacci spiral over z >= 0: even spread, no pole cluster */
+		double z = 1.0 - (d + 0.5) / AXIS_DIRECTIONS, s = sqrt(1.0 - z * z), a = golden * d;
+		dir[d][0] = (float)(s * cos(a)), dir[d][1] = (float)(s * sin(a)), dir[d][2] = (float)z;
+		count[d] = 0;
+		facing[d] = 0.0;
+		for (size_t i = 0; i < n; i++) {
+			float c = fabsf(nx[i] * dir[d][0] + ny[i] * dir[d][1] + nz[i] * dir[d][2]);
+			count[d] += c < (float)GRAZING_SIN;
+			facing[d] += c;
+		}
+		/* ties (several directions with no grazing normal at all) go to the
+		 * one the normals face most squarely: the middle of the tied cap,
+		 * not whichever the spiral meets first */
+		if (count[d] < count[best] || (count[d] == count[best] && facing[d] > facing[best]))
+			best = d;
+	}
+	*fraction = (double)count[best] / (double)n;
+	if (*fraction > grazing)
+		return;
+	for (int d = 0; d < AXIS_DIRECTIONS; d++) {
+		float c = dir[d][0] * dir[best][0] + dir[d][1] * dir[best][1] + dir[d][2] * dir[best][2];
+		if ((double)count[d] <= grazing * (double)n && fabsf(c) < (float)AXIS_UNIQUE_COS)
+			return;
+	}
+	*found = 1;
+	memcpy(axis, dir[best], sizeof dir[best]);
+}
+
+void dp_silhouette_free(dp_silhouette *s)
+{
+	if (!s)
+		return;
+	free(s->nearest);
+	free(s->inset);
+	memset(s, 0, sizeof *s);
+}
+
+static void across(const float axis[3], float u[3], float v[3])
+{
+	/* u: the axis crossed with the coordinate axis least along it */
+	float e[3] = {0.0f, 0.0f, 0.0f};
+	int k = fabsf(axis[0]) <= fabsf(axis[1]) && fabsf(axis[0]) <= fabsf(axis[2]) ? 0
+		: fabsf(axis[1]) <= fabsf(axis[2])                                   ? 1
+											: 2;
+	e[k] = 1.0f;
+	u[0] = axis[1] * e[2] - axis[2] * e[1];
+	u[1] = axis[2] * e[0] - axis[0] * e[2];
+	u[2] = axis[0] * e[1] - axis[1] * e[0];
+	float len = sqrtf(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+	for (int c = 0; c < 3; c++)
+		u[c] /= len;
+	v[0] = axis[1] * u[2] - axis[2] * u[1];
+	v[1] = axis[2] * u[0] - axis[0] * u[2];
+	v[2] = axis[0] * u[1] - axis[1] * u[0];
+}
+
+/* Breadth-first over 8-neighbours from every cell whose nearest[] is set,
+ * handing on the source: each unset cell receives a nearest set cell (to
+ * within a cell of the true nearest, which holding a point needs no
+ * better). queue has room for every cell. */
+static void spread_nearest(int nu, int nv, int32_t *nearest, int32_t *queue)
+{
+	size_t head = 0, tail = 0, cells = (size_t)nu * (size_t)nv;
+	for (size_t c = 0; c < cells; c++)
+		if (nearest[c] >= 0)
+			queue[tail++] = (int32_t)c;
+	while (head < tail) {
+		int32_t c = queue[head++];
+		int i = c % nu, j = c / nu;
+		for (int dj = -1; dj <= 1; dj++)
+			for (int di = -1; di <= 1; di++) {
+				int a = i + di, b = j + dj;
+				if (a < 0 || b < 0 || a >= nu || b >= nv)
+					continue;
+				int32_t k = b * nu + a;
+				if (nearest[k] < 0) {
+					nearest[k] = nearest[c];
+					queue[tail++] = k;
+				}
+			}
+	}
+}
+
+/* Cells outside that no 4-neighbour path joins to the grid's border are
+ * holes of the outline: filled. mark: 1 inside, 0 outside; queue as above. */
+static void fill_holes(int nu, int nv, uint8_t *mark, int32_t *queue)
+{
+	size_t head = 0, tail = 0, cells = (size_t)nu * (size_t)nv;
+	for (int j = 0; j < nv; j++)
+		for (int i = 0; i < nu; i++)
+			if ((i == 0 || j == 0 || i == nu - 1 || j == nv - 1) && mark[j * nu + i] == 0) {
+				mark[j * nu + i] = 2;
+				queue[tail++] = j * nu + i;
+			}
+	static const int step[4][2] = {{1, 0}, {-1, 0}, {0, 1}, {0, -1}};
+	while (head < tail) {
+		int32_t c = queue[head++];
+		int i = c % nu, j = c / nu;
+		for (int s = 0; s < 4; s++) {
+			int a = i + step[s][0], b = j + step[s][1];
+			if (a < 0 || b < 0 || a >= nu || b >= nv || mark[b * nu + a] != 0)
+				continue;
+			mark[b * nu + a] = 2;
+			queue[tail++] = b * nu + a;
+		}
+	}
+	for (size_t c = 0; c < cells; c++)
+		mark[c] = mark[c] != 2;
+}
+
+dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const float axis[3], double cell, double margin,
+			      dp_error *err)
+{
+	if (!input->n || !(cell > 0.0) || !isfinite(cell) || !(margin >= 0.0) || !isfinite(margin))
+		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g", input->n, cell,
+			       margin);
+	dp_silhouette_free(s);
+	memcpy(s->axis, axis, sizeof s->axis);
+	across(axis, s->u, s->v);
+	double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
+	for (size_t i = 0; i < input->n; i++) {
+		double pu = input->x[i] * s->u[0] + input->y[i] * s->u[1] + input->z[i] * s->u[2];
+		double pv = input->x[i] * s->v[0] + input->y[i] * s->v[1] + input->z[i] * s->v[2];
+		lo_u = fmin(lo_u, pu), hi_u = fmax(hi_u, pu), lo_v = fmin(lo_v, pv), hi_v = fmax(hi_v, pv);
+	}
+	/* coarsen until the grid, margin and border included, fits */
+	int grow = 0, border = 0;
+	for (;;) {
+		grow = (int)ceil(margin / cell);
+		border = grow + 2;
+		double nu = ceil((hi_u - lo_u) / cell) + 1.0 + 2.0 * border, nv = ceil((hi_v - lo_v) / cell) + 1.0 + 2.0 * border;
+		if (nu * nv <= MAX_CELLS) {
+			s->nu = (int)nu, s->nv = (int)nv;
+			break;
+		}
+		cell *= 1.5;
+	}
+	s->cell = cell;
+	s->u0 = lo_u - border * cell;
+	s->v0 = lo_v - border * cell;
+	size_t cells = (size_t)s->nu * (size_t)s->nv;
+	uint8_t *mark = calloc(cells, 1);
+	int32_t *queue = malloc(cells * sizeof *queue);
+	s->nearest = malloc(cells * sizeof *s->nearest);
+	s->inset = malloc(cells * sizeof *s->inset);
+	if (!mark || !queue || !s->nearest || !s->inset) {
+		free(mark);
+		free(queue);
+		dp_silhouette_free(s);
+		return dp_fail(err, DP_ERR_NOMEM, "silhouette: out of memory for %zu cells", cells);
+	}
+	for (size_t i = 0; i < input->n; i++) {
+		double pu = input->x[i] * s->u[0] + input->y[i] * s->u[1] + input->z[i] * s->u[2];
+		double pv = input->x[i] * s->v[0] + input->y[i] * s->v[1] + input->z[i] * s->v[2];
+		int a = (int)floor((pu - s->u0) / cell), b = (int)floor((pv - s->v0) / cell);
+		mark[(size_t)b * s->nu + a] = 1;
+	}
+	/* grow by the margin: every cell whose centre lies within it of an
+	 * occupied cell's centre */
+	for (size_t c = 0; c < cells; c++)
+		s->nearest[c] = mark[c] ? (int32_t)c : -1;
+	for (int j = 0; j < s->nv; j++)
+		for (int i = 0; i < s->nu; i++) {
+			if (!mark[j * s->nu + i])
+				continue;
+			for (int b = j - grow; b <= j + grow; b++)
+				for (int a = i - grow; a <= i + grow; a++)
+					if ((double)(a - i) * (a - i) + (double)(b - j) * (b - j) <= (margin / cell) * (margin / cell))
+						s->nearest[(size_t)b * s->nu + a] = 0;
+		}
+	for (size_t c = 0; c < cells; c++)
+		mark[c] = s->nearest[c] >= 0;
+	fill_holes(s->nu, s->nv, mark, queue);
+	/* the inset first, spreading the nearest cell outside over the inside */
+	for (size_t c = 0; c < cells; c++)
+		s->nearest[c] = mark[c] ? -1 : (int32_t)c;
+	spread_nearest(s->nu, s->nv, s->nearest, queue);
+	for (size_t c = 0; c < cells; c++) {
+		double di = (double)((int32_t)c % s->nu - s->nearest[c] % s->nu), dj = (double)((int32_t)c / s->nu - s->nearest[c] / s->nu);
+		s->inset[c] = mark[c] ? (float)(cell * sqrt(di * di + dj * dj)) : 0.0f;
+	}
+	for (size_t c = 0; c < cells; c++)
+		s->nearest[c] = mark[c] ? (int32_t)c : -1;
+	spread_nearest(s->nu, s->nv, s->nearest, queue);
+	free(mark);
+	free(queue);
+	return DP_OK;
+}
+
+/* The inset at (x, y, z): 0 outside the grid. */
+static double inset_at(const dp_silhouette *s, double x, double y, double z)
+{
+	double pu = x * s->u[0] + y * s->u[1] + z * s->u[2], pv = x * s->v[0] + y * s->v[1] + z * s->v[2];
+	double fu = floor((pu - s->u0) / s->cell), fv = floor((pv - s->v0) / s->cell);
+	if (!(fu >= 0.0 && fu < s->nu && fv >= 0.0 && fv < s->nv))
+		return 0.0;
+	return s->inset[(size_t)fv * s->nu + (size_t)fu];
+}
+
+/* Halvings of the bisection: the depth to 2^-7 of itself. */
+#define CAP_HALVINGS 7
+
+int dp_silhouette_cap(const dp_silhouette *s, const float p[3], float q[3])
+{
+	double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
+	double depth = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+	if (!(depth > inset_at(s, q[0], q[1], q[2])))
+		return 0;
+	/* t - inset(p + t d) rises through 0 between lo and hi */
+	double lo = 0.0, hi = 1.0;
+	for (int k = 0; k < CAP_HALVINGS; k++) {
+		double t = 0.5 * (lo + hi);
+		if (t * depth > inset_at(s, p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]))
+			hi = t;
+		else
+			lo = t;
+	}
+	for (int c = 0; c < 3; c++)
+		q[c] = (float)(p[c] + lo * d[c]);
+	return 1;
+}
+
+size_t dp_silhouette_hold(const dp_silhouette *s, size_t n, float *x, float *y, float *z)
+{
+	size_t moved = 0;
+	for (size_t i = 0; i < n; i++) {
+		double pu = x[i] * s->u[0] + y[i] * s->u[1] + z[i] * s->u[2];
+		double pv = x[i] * s->v[0] + y[i] * s->v[1] + z[i] * s->v[2];
+		double fu = floor((pu - s->u0) / s->cell), fv = floor((pv - s->v0) / s->cell);
+		int within = fu >= 0.0 && fu < s->nu && fv >= 0.0 && fv < s->nv;
+		int a = fu < 0.0 ? 0 : fu >= s->nu ? s->nu - 1 : (int)fu;
+		int b = fv < 0.0 ? 0 : fv >= s->nv ? s->nv - 1 : (int)fv;
+		int32_t c = b * s->nu + a, k = s->nearest[c];
+		if (within && k == c)
+			continue;
+		/* onto the nearest point of cell k, a hair inside its edges */
+		double ku = s->u0 + (k % s->nu) * s->cell, kv = s->v0 + (k / s->nu) * s->cell, hair = 1e-3 * s->cell;
+		double tu = fmin(fmax(pu, ku + hair), ku + s->cell - hair), tv = fmin(fmax(pv, kv + hair), kv + s->cell - hair);
+		float du = (float)(tu - pu), dv = (float)(tv - pv);
+		x[i] += du * s->u[0] + dv * s->v[0];
+		y[i] += du * s->u[1] + dv * s->v[1];
+		z[i] += du * s->u[2] + dv * s->v[2];
+		moved++;
+	}
+	return moved;
+}

@@ -1,0 +1,232 @@
+/* The scan's outline (host/stages/silhouette.h, dp_surface_params.silhouette):
+ * the view axis is found where a scanner's normals leave it, and only there;
+ * points outside the outline come back across the axis, holes in it are
+ * filled; anchors deeper than the outline's inset rise to it; the pipeline
+ * reports the axis and keeps every point inside. */
+#include "testkit.h"
+
+#include "stages/silhouette.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NORMALS 4000
+
+/* n unit normals spread evenly over the directions within `cap_deg` of
+ * `axis` (a Fibonacci spiral; 180: the whole sphere). */
+static void normals_in_cap(size_t n, const double axis[3], double cap_deg, float *nx, float *ny, float *nz)
+{
+	double a[3] = {axis[0], axis[1], axis[2]}, len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+	for (int c = 0; c < 3; c++)
+		a[c] /= len;
+	/* u, v across the axis */
+	double e[3] = {fabs(a[0]) < 0.9 ? 1.0 : 0.0, fabs(a[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+	double u[3] = {a[1] * e[2] - a[2] * e[1], a[2] * e[0] - a[0] * e[2], a[0] * e[1] - a[1] * e[0]};
+	double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+	for (int c = 0; c < 3; c++)
+		u[c] /= ul;
+	double v[3] = {a[1] * u[2] - a[2] * u[1], a[2] * u[0] - a[0] * u[2], a[0] * u[1] - a[1] * u[0]};
+	double zmin = cos(cap_deg * M_PI / 180.0), golden = M_PI * (3.0 - sqrt(5.0));
+	for (size_t i = 0; i < n; i++) {
+		double z = 1.0 - (1.0 - zmin) * ((double)i + 0.5) / (double)n, s = sqrt(1.0 - z * z), t = golden * (double)i;
+		double w[3];
+		for (int c = 0; c < 3; c++)
+			w[c] = z * a[c] + s * cos(t) * u[c] + s * sin(t) * v[c];
+		nx[i] = (float)w[0], ny[i] = (float)w[1], nz[i] = (float)w[2];
+	}
+}
+
+static double angle_deg(const float a[3], const double b[3])
+{
+	double bl = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
+	double c = fabs(a[0] * b[0] + a[1] * b[1] + a[2] * b[2]) / bl;
+	return acos(fmin(c, 1.0)) * 180.0 / M_PI;
+}
+
+/* A one-view scan's normals face the eye, none within 10° of grazing
+ * (here: all within 75° of it): the axis is found, up to its sign. */
+static void test_axis_one_view(void **state)
+{
+	(void)state;
+	float nx[NORMALS], ny[NORMALS], nz[NORMALS], axis[3];
+	const double eye[3] = {0.6, -0.3, 0.74};
+	normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
+	int found = 0;
+	double fraction = 1.0;
+	dp_silhouette_axis(NORMALS, nx, ny, nz, 0.065, &found, axis, &fraction);
+	printf("one view: found %d, axis %.1f deg from the eye, grazing %.4f\n", found, angle_deg(axis, eye), fraction);
+	assert_true(found);
+	assert_true(angle_deg(axis, eye) < 3.0);
+	assert_true(fraction < 0.01);
+}
+
+/* Normals over every direction (a complete scan) put about 17% near any
+ * axis: none found. Too few normals: none found either, fraction 1. */
+static void test_axis_none(void **state)
+{
+	(void)state;
+	float nx[NORMALS], ny[NORMALS], nz[NORMALS], axis[3];
+	const double z[3] = {0.0, 0.0, 1.0};
+	normals_in_cap(NORMALS, z, 180.0, nx, ny, nz);
+	int found = 1;
+	double fraction = 0.0;
+	dp_silhouette_axis(NORMALS, nx, ny, nz, 0.065, &found, axis, &fraction);
+	printf("all round: found %d, grazing %.4f\n", found, fraction);
+	assert_false(found);
+	assert_true(fraction > 0.12 && fraction < 0.22);
+	normals_in_cap(DP_SILHOUETTE_MIN_NORMALS - 1, z, 75.0, nx, ny, nz);
+	dp_silhouette_axis(DP_SILHOUETTE_MIN_NORMALS - 1, nx, ny, nz, 0.065, &found, axis, &fraction);
+	assert_false(found);
+	assert_true(fraction == 1.0);
+}
+
+/* A box's normals (three faces seen from one octant) leave every direction
+ * oblique to all of them free of grazing normals: no unique axis. */
+static void test_axis_box(void **state)
+{
+	(void)state;
+	float nx[NORMALS], ny[NORMALS], nz[NORMALS], axis[3];
+	for (size_t i = 0; i < NORMALS; i++) {
+		nx[i] = i % 3 == 0, ny[i] = i % 3 == 1, nz[i] = i % 3 == 2;
+	}
+	int found = 1;
+	double fraction = 1.0;
+	dp_silhouette_axis(NORMALS, nx, ny, nz, 0.065, &found, axis, &fraction);
+	printf("box: found %d, grazing %.4f\n", found, fraction);
+	assert_true(fraction == 0.0);
+	assert_false(found);
+}
+
+/* Input filling the annulus 0.5 <= rho <= 1 across z, at every height in
+ * [-1, 1], seen along z. */
+static void annulus(dp_cloud *in)
+{
+	dp_error err = {0};
+	const size_t rings = 40, around = 200;
+	if (dp_cloud_alloc(in, rings * around, 0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	for (size_t k = 0; k < rings; k++)
+		for (size_t j = 0; j < around; j++) {
+			size_t i = k * around + j;
+			double rho = 0.5 + 0.5 * (double)k / (double)(rings - 1), t = 2.0 * M_PI * (double)j / (double)around;
+			in->x[i] = (float)(rho * cos(t)), in->y[i] = (float)(rho * sin(t));
+			in->z[i] = (float)(-1.0 + 2.0 * (double)((i * 7919) % 1000) / 999.0);
+		}
+}
+
+/* Outside the disc a point comes back across z to within the margin and a
+ * cell of the rim, its z untouched; inside (the hole in the middle too) and
+ * far along z nothing moves; a point far off the grid comes back too. */
+static void test_hold(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_cloud in = {0};
+	annulus(&in);
+	dp_silhouette s = {0};
+	const float axis[3] = {0.0f, 0.0f, 1.0f};
+	const double cell = 0.02, margin = 0.1;
+	if (dp_silhouette_build(&s, &in, axis, cell, margin, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	float x[5] = {2.0f, 0.0f, 0.6f, -300.0f, 0.7f}, y[5] = {0.0f, 0.0f, 0.3f, 40.0f, -0.7f};
+	float z[5] = {0.3f, 0.2f, 5.0f, -0.5f, 0.0f};
+	size_t moved = dp_silhouette_hold(&s, 5, x, y, z);
+	double rho0 = hypot(x[0], y[0]), rho3 = hypot(x[3], y[3]);
+	printf("hold: moved %zu, to rho %.4f and %.4f\n", moved, rho0, rho3);
+	assert_int_equal(moved, 2);
+	assert_true(rho0 > 1.0 && rho0 <= 1.0 + margin + 2.0 * cell);
+	assert_true(fabsf(y[0]) < 2.0 * cell && z[0] == 0.3f);
+	assert_true(rho3 > 1.0 && rho3 <= 1.0 + margin + 3.0 * cell && z[3] == -0.5f);
+	assert_true(x[1] == 0.0f && y[1] == 0.0f && z[2] == 5.0f && x[4] == 0.7f);
+	/* all of the unmoved ones are inside: a second pass moves none */
+	assert_int_equal(dp_silhouette_hold(&s, 5, x, y, z), 0);
+	dp_silhouette_free(&s);
+	/* bad arguments */
+	assert_int_equal(dp_silhouette_build(&s, &in, axis, 0.0, margin, &err), DP_ERR_ARG);
+	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, -1.0, &err), DP_ERR_ARG);
+	dp_cloud_free(&in);
+}
+
+/* The front half of a unit sphere seen along z: its outline is the unit
+ * disc, whose inset at the centre is 1, the sphere's radius. Anchors sunk
+ * past the centre from samples at any angle come back to it; one short of
+ * it stays. */
+static void test_cap(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_cloud in = {0};
+	const size_t n = 20000;
+	if (dp_cloud_alloc(&in, n, 0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const double z[3] = {0.0, 0.0, 1.0};
+	normals_in_cap(n, z, 90.0, in.x, in.y, in.z);
+	dp_silhouette s = {0};
+	const float axis[3] = {0.0f, 0.0f, 1.0f};
+	if (dp_silhouette_build(&s, &in, axis, 0.01, 0.0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	for (int k = 0; k < 4; k++) {
+		double phi = k * 25.0 * M_PI / 180.0;
+		float p[3] = {(float)sin(phi), 0.0f, (float)cos(phi)};
+		float q[3] = {-p[0], -p[1], -p[2]}; /* twice the radius deep */
+		assert_int_equal(dp_silhouette_cap(&s, p, q), 1);
+		double off = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
+		printf("cap: sample %2d deg from the axis, anchor ends %.4f from the centre\n", k * 25, off);
+		assert_true(off < 0.05);
+	}
+	float p[3] = {0.0f, 0.0f, 1.0f}, q[3] = {0.0f, 0.0f, 0.2f};
+	assert_int_equal(dp_silhouette_cap(&s, p, q), 0);
+	assert_true(q[2] == 0.2f);
+	dp_silhouette_free(&s);
+	dp_cloud_free(&in);
+}
+
+/* Seen along the axis found, every surface point of a one-view scan of the
+ * built-in torus lies inside the input's outline grown by the margin, and
+ * the run reports the axis; with the outline off none is reported. */
+static void test_pipeline(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_cloud scan = {0};
+	tk_scan_shape("torus", 1, 96, 0.002, 1, NULL, NULL, &scan);
+	dp_params p;
+	dp_params_default(&p);
+	p.wlop.samples = 1500;
+	p.refine.coarse_samples = 1000;
+	dp_result on = {0}, off = {0};
+	if (dp_consolidate(tk_cl_context(), &scan, &p, &on, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const double *a = on.surface_stats.silhouette_axis;
+	printf("torus one view: axis (%.3f %.3f %.3f), grazing %.4f, %zu held, %zu anchors capped\n", a[0], a[1], a[2],
+	       on.surface_stats.silhouette_grazing, on.surface_stats.silhouette_held, on.silhouette_capped);
+	assert_true(a[0] != 0.0 || a[1] != 0.0 || a[2] != 0.0);
+	tk_assert_rows_in_step(&on, 1500);
+	dp_silhouette s = {0};
+	const float axis[3] = {(float)a[0], (float)a[1], (float)a[2]};
+	if (dp_silhouette_build(&s, &scan, axis, on.r, p.surface.silhouette_margin_r * on.r, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	/* r grew over the levels: the outline at the last r holds the earlier ones */
+	assert_int_equal(dp_silhouette_hold(&s, on.surface.n, on.surface.x, on.surface.y, on.surface.z), 0);
+	dp_silhouette_free(&s);
+	p.surface.silhouette = 0;
+	if (dp_consolidate(tk_cl_context(), &scan, &p, &off, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const double *b = off.surface_stats.silhouette_axis;
+	assert_true(b[0] == 0.0 && b[1] == 0.0 && b[2] == 0.0);
+	assert_int_equal(off.surface_stats.silhouette_held, 0);
+	assert_int_equal(off.silhouette_capped, 0);
+	dp_result_free(&on);
+	dp_result_free(&off);
+	dp_cloud_free(&scan);
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_axis_one_view), cmocka_unit_test(test_axis_none), cmocka_unit_test(test_axis_box),
+		cmocka_unit_test(test_hold),          cmocka_unit_test(test_cap),       cmocka_unit_test(test_pipeline),
+	};
+	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
+}
