@@ -227,18 +227,10 @@ static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params 
 	axis_out[0] = axis_out[1] = axis_out[2] = 0.0;
 	if (!p->silhouette)
 		return DP_OK;
-	const double *g = p->silhouette_axis;
-	double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
 	float axis[3];
-	int found = len > 0.0;
-	if (found) {
-		for (int c = 0; c < 3; c++)
-			axis[c] = (float)(g[c] / len);
-		res->surface_stats.silhouette_grazing = -1.0;
-	} else {
-		dp_silhouette_axis(res->wlop.n, res->wlop.nx, res->wlop.ny, res->wlop.nz, p->silhouette_grazing, &found,
-				   axis, &res->surface_stats.silhouette_grazing);
-	}
+	int found = 0;
+	dp_silhouette_pick(p->silhouette_axis, res->wlop.n, res->wlop.nx, res->wlop.ny, res->wlop.nz, p->silhouette_grazing,
+			   &found, axis, &res->surface_stats.silhouette_grazing);
 	if (!found)
 		return DP_OK;
 	dp_silhouette outline = {0};

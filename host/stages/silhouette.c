@@ -22,6 +22,30 @@
 /* The grid holds at most this many cells; a finer outline is coarsened. */
 #define MAX_CELLS (1 << 24)
 
+/* Direction d of the fixed set: a Fibonacci spiral over z >= 0, an even
+ * spread with no cluster at the pole. */
+static void direction(int d, float dir[3])
+{
+	const double golden = M_PI * (3.0 - sqrt(5.0));
+	double z = 1.0 - (d + 0.5) / AXIS_DIRECTIONS, s = sqrt(1.0 - z * z), a = golden * d;
+	dir[0] = (float)(s * cos(a)), dir[1] = (float)(s * sin(a)), dir[2] = (float)z;
+}
+
+/* How many of the normals lie within 10° of perpendicular to dir, and the
+ * sum of |n·dir|. */
+static size_t grazing_count(size_t n, const float *nx, const float *ny, const float *nz, const float dir[3],
+			    double *facing)
+{
+	size_t count = 0;
+	*facing = 0.0;
+	for (size_t i = 0; i < n; i++) {
+		float c = fabsf(nx[i] * dir[0] + ny[i] * dir[1] + nz[i] * dir[2]);
+		count += c < (float)GRAZING_SIN;
+		*facing += c;
+	}
+	return count;
+}
+
 void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float *nz, double grazing, int *found,
 			float axis[3], double *fraction)
 {
@@ -29,38 +53,50 @@ void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float 
 	*fraction = 1.0;
 	if (n < DP_SILHOUETTE_MIN_NORMALS)
 		return;
-	float dir[AXIS_DIRECTIONS][3];
-	size_t count[AXIS_DIRECTIONS];
-	double facing[AXIS_DIRECTIONS];
-	int best = 0;
-	const double golden = M_PI * (3.0 - sqrt(5.0));
+	float best[3] = {0.0f, 0.0f, 1.0f};
+	size_t least = n + 1;
+	double most = -1.0;
 	for (int d = 0; d < AXIS_DIRECTIONS; d++) {
-		/* a Fibonacci spiral over z >= 0: even spread, no pole cluster */
-		double z = 1.0 - (d + 0.5) / AXIS_DIRECTIONS, s = sqrt(1.0 - z * z), a = golden * d;
-		dir[d][0] = (float)(s * cos(a)), dir[d][1] = (float)(s * sin(a)), dir[d][2] = (float)z;
-		count[d] = 0;
-		facing[d] = 0.0;
-		for (size_t i = 0; i < n; i++) {
-			float c = fabsf(nx[i] * dir[d][0] + ny[i] * dir[d][1] + nz[i] * dir[d][2]);
-			count[d] += c < (float)GRAZING_SIN;
-			facing[d] += c;
-		}
+		float dir[3];
+		double facing;
+		direction(d, dir);
+		size_t count = grazing_count(n, nx, ny, nz, dir, &facing);
 		/* ties (several directions with no grazing normal at all) go to the
 		 * one the normals face most squarely: the middle of the tied cap,
 		 * not whichever the spiral meets first */
-		if (count[d] < count[best] || (count[d] == count[best] && facing[d] > facing[best]))
-			best = d;
+		if (count < least || (count == least && facing > most)) {
+			least = count, most = facing;
+			memcpy(best, dir, sizeof best);
+		}
 	}
-	*fraction = (double)count[best] / (double)n;
+	*fraction = (double)least / (double)n;
 	if (*fraction > grazing)
 		return;
+	/* a second pass, counting again, rather than a table of every count */
 	for (int d = 0; d < AXIS_DIRECTIONS; d++) {
-		float c = dir[d][0] * dir[best][0] + dir[d][1] * dir[best][1] + dir[d][2] * dir[best][2];
-		if ((double)count[d] <= grazing * (double)n && fabsf(c) < (float)AXIS_UNIQUE_COS)
+		float dir[3];
+		double facing;
+		direction(d, dir);
+		float c = fabsf(dir[0] * best[0] + dir[1] * best[1] + dir[2] * best[2]);
+		if (c < (float)AXIS_UNIQUE_COS && (double)grazing_count(n, nx, ny, nz, dir, &facing) <= grazing * (double)n)
 			return;
 	}
 	*found = 1;
-	memcpy(axis, dir[best], sizeof dir[best]);
+	memcpy(axis, best, sizeof best);
+}
+
+void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const float *ny, const float *nz,
+			double grazing, int *found, float axis[3], double *fraction)
+{
+	double len = sqrt(given[0] * given[0] + given[1] * given[1] + given[2] * given[2]);
+	if (len > 0.0) {
+		for (int c = 0; c < 3; c++)
+			axis[c] = (float)(given[c] / len);
+		*found = 1;
+		*fraction = -1.0;
+		return;
+	}
+	dp_silhouette_axis(n, nx, ny, nz, grazing, found, axis, fraction);
 }
 
 void dp_silhouette_free(dp_silhouette *s)

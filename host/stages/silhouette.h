@@ -42,6 +42,10 @@ typedef struct dp_silhouette {
 #define DP_SILHOUETTE_MIN_NORMALS 1000
 void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float *nz, double grazing, int *found,
 			float axis[3], double *fraction);
+/* The axis `given` scaled to unit length (*found = 1, *fraction = -1) or,
+ * when it is all zero, dp_silhouette_axis's. */
+void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const float *ny, const float *nz,
+			double grazing, int *found, float axis[3], double *fraction);
 
 /* The outline of `input` seen along the unit `axis`: cells of `cell` across
  * it that an input point falls in, grown by `margin` (>= 0) and with every

@@ -634,18 +634,10 @@ static int stop_test(const work *w, size_t n, int t, const dp_surface_params *p)
 static dp_status outline(work *w, const dp_cloud *input, size_t n, double r, const dp_surface_params *p,
 			 dp_surface_stats *st, dp_error *err)
 {
-	const double *g = p->silhouette_axis;
-	double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
 	float axis[3];
-	int found = len > 0.0;
-	if (found) {
-		for (int c = 0; c < 3; c++)
-			axis[c] = (float)(g[c] / len);
-		st->silhouette_grazing = -1.0;
-	} else {
-		dp_silhouette_axis(n, w->a[A_NX], w->a[A_NY], w->a[A_NZ], p->silhouette_grazing, &found, axis,
-				   &st->silhouette_grazing);
-	}
+	int found = 0;
+	dp_silhouette_pick(p->silhouette_axis, n, w->a[A_NX], w->a[A_NY], w->a[A_NZ], p->silhouette_grazing, &found,
+			   axis, &st->silhouette_grazing);
 	if (!found)
 		return DP_OK;
 	for (int c = 0; c < 3; c++)
