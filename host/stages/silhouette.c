@@ -6,7 +6,7 @@
 #include <stdlib.h>
 #include <string.h>
 
-/* Directions tried for the axis, over the half-sphere: about 2.6° apart,
+/* Directions tried for the axis, over the half-sphere: about 3° apart,
  * finer than the 10° band they are judged by. */
 #define AXIS_DIRECTIONS 2000
 /* |n·axis| below sin 10°: the normal lies within 10° of perpendicular. */
@@ -19,8 +19,9 @@
  * from the best, and on its one-view scan the best lay 40° from the eye,
  * cutting 0.34% of the true surface off (none along the eye's own axis). */
 #define AXIS_UNIQUE_COS 0.7071067811865476
-/* The grid holds at most this many cells; a finer outline is coarsened. */
-#define MAX_CELLS (1 << 24)
+/* The grid holds at most this many cells (9 bytes each and 4 more while it
+ * is built: 52 MB at most); a finer outline is coarsened. */
+#define MAX_CELLS (1 << 22)
 
 /* Direction d of the fixed set: a Fibonacci spiral over z >= 0, an even
  * spread with no cluster at the pole. */
