@@ -5,6 +5,7 @@
  * reports the axis and keeps every point inside. */
 #include "testkit.h"
 
+#include "core/common.h"
 #include "stages/silhouette.h"
 
 #include <math.h>
@@ -148,6 +149,62 @@ static void test_hold(void **state)
 	dp_cloud_free(&in);
 }
 
+/* The grid against brute force on an outline with holes, dents and islands:
+ * each cell's inset is its distance to the nearest cell outside, each
+ * outside cell's nearest cell inside is a nearest one. */
+static void test_grid_exact(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_cloud in = {0};
+	const size_t n = 3000;
+	if (dp_cloud_alloc(&in, n, 0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	dp_rng rng;
+	dp_rng_seed(&rng, 11);
+	for (size_t i = 0; i < n; i++) {
+		/* three blobs of different sizes, some points far out alone */
+		double cx[3] = {0.0, 1.3, -0.4}, cy[3] = {0.0, 0.2, 1.1}, rad[3] = {0.8, 0.35, 0.2};
+		int b = (int)(i % 3);
+		double a = 2.0 * M_PI * dp_rng_uniform(&rng), t = rad[b] * sqrt(dp_rng_uniform(&rng));
+		in.x[i] = (float)(cx[b] + t * cos(a)), in.y[i] = (float)(cy[b] + t * sin(a));
+		in.z[i] = (float)dp_rng_uniform(&rng);
+	}
+	dp_silhouette s = {0};
+	const float axis[3] = {0.0f, 0.0f, 1.0f};
+	if (dp_silhouette_build(&s, &in, axis, 0.05, 0.07, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	size_t cells = (size_t)s.nu * (size_t)s.nv, inside = 0, checked = 0;
+	for (size_t c = 0; c < cells; c++) {
+		int ci = (int)(c % (size_t)s.nu), cj = (int)(c / (size_t)s.nu);
+		int in_c = s.nearest[c] == (int32_t)c;
+		inside += in_c;
+		double best = INFINITY;
+		for (size_t k = 0; k < cells; k++) {
+			int in_k = s.nearest[k] == (int32_t)k;
+			if (in_k == in_c)
+				continue;
+			double di = (int)(k % (size_t)s.nu) - ci, dj = (int)(k / (size_t)s.nu) - cj;
+			best = fmin(best, di * di + dj * dj);
+		}
+		if (in_c) {
+			assert_true(fabs(s.inset[c] - s.cell * sqrt(best)) < 1e-4 * s.cell);
+		} else {
+			int32_t k = s.nearest[c];
+			double di = (int)(k % s.nu) - ci, dj = (int)(k / s.nu) - cj;
+			assert_true(s.nearest[k] == k);
+			assert_true(fabs(di * di + dj * dj - best) < 1e-9);
+			assert_true(s.inset[c] == 0.0f);
+		}
+		checked++;
+	}
+	printf("grid %d x %d: %zu cells inside, every inset and nearest cell as brute force finds them\n", s.nu, s.nv,
+	       inside);
+	assert_true(inside > 0 && inside < cells && checked == cells);
+	dp_silhouette_free(&s);
+	dp_cloud_free(&in);
+}
+
 /* The front half of a unit sphere seen along z: its outline is the unit
  * disc, whose inset at the centre is 1, the sphere's radius. Anchors sunk
  * past the centre from samples at any angle come back to it; one short of
@@ -226,7 +283,8 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_axis_one_view), cmocka_unit_test(test_axis_none), cmocka_unit_test(test_axis_box),
-		cmocka_unit_test(test_hold),          cmocka_unit_test(test_cap),       cmocka_unit_test(test_pipeline),
+		cmocka_unit_test(test_hold),          cmocka_unit_test(test_grid_exact), cmocka_unit_test(test_cap),
+		cmocka_unit_test(test_pipeline),
 	};
 	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
 }

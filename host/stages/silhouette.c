@@ -128,30 +128,79 @@ static void across(const float axis[3], float u[3], float v[3])
 	v[2] = axis[0] * u[1] - axis[1] * u[0];
 }
 
-/* Breadth-first over 8-neighbours from every cell whose nearest[] is set,
- * handing on the source: each unset cell receives a nearest set cell (to
- * within a cell of the true nearest, which holding a point needs no
- * better). queue has room for every cell. */
-static void spread_nearest(int nu, int nv, int32_t *nearest, int32_t *queue)
+/* Working memory of the distance transform: one row or column at a time. */
+typedef struct line_work {
+	double *f, *z;
+	int *at;
+} line_work;
+
+/* The exact squared distance, in cells², from every cell to the nearest cell
+ * with src set, into d2 (INFINITY when none is), and that cell's index into
+ * nearest unless it is NULL (-1 when none): Felzenszwalb and Huttenlocher's two passes, a
+ * column scan and then, along each row, the lower envelope of the parabolas
+ * the columns give. row: room for every cell. Linear in the cells, so a
+ * wide margin costs no more than a narrow one. */
+static void distance_transform(int nu, int nv, const uint8_t *src, float *d2, int32_t *nearest, int32_t *row,
+			       const line_work *lw)
 {
-	size_t head = 0, tail = 0, cells = (size_t)nu * (size_t)nv;
-	for (size_t c = 0; c < cells; c++)
-		if (nearest[c] >= 0)
-			queue[tail++] = (int32_t)c;
-	while (head < tail) {
-		int32_t c = queue[head++];
-		int i = c % nu, j = c / nu;
-		for (int dj = -1; dj <= 1; dj++)
-			for (int di = -1; di <= 1; di++) {
-				int a = i + di, b = j + dj;
-				if (a < 0 || b < 0 || a >= nu || b >= nv)
-					continue;
-				int32_t k = b * nu + a;
-				if (nearest[k] < 0) {
-					nearest[k] = nearest[c];
-					queue[tail++] = k;
-				}
+	for (int i = 0; i < nu; i++) {
+		/* along column i: the nearest source row above and below */
+		int last = -1;
+		for (int j = 0; j < nv; j++) {
+			size_t c = (size_t)j * nu + i;
+			if (src[c])
+				last = j;
+			row[c] = last;
+		}
+		last = -1;
+		for (int j = nv - 1; j >= 0; j--) {
+			size_t c = (size_t)j * nu + i;
+			if (src[c])
+				last = j;
+			if (last >= 0 && (row[c] < 0 || last - j < j - row[c]))
+				row[c] = last;
+			d2[c] = row[c] < 0 ? INFINITY : (float)((double)(j - row[c]) * (j - row[c]));
+		}
+	}
+	for (int j = 0; j < nv; j++) {
+		size_t base = (size_t)j * nu;
+		/* the lower envelope of the finite parabolas (q - i)² + f(i) */
+		int k = -1;
+		for (int i = 0; i < nu; i++) {
+			double fi = d2[base + i];
+			lw->f[i] = fi;
+			if (!isfinite(fi))
+				continue;
+			while (k >= 0) {
+				int p = lw->at[k];
+				double meet = ((fi + (double)i * i) - (lw->f[p] + (double)p * p)) / (2.0 * (i - p));
+				if (meet > lw->z[k])
+					break;
+				k--;
 			}
+			k++;
+			lw->at[k] = i;
+			lw->z[k] = k == 0 ? -INFINITY
+					  : ((fi + (double)i * i) - (lw->f[lw->at[k - 1]] + (double)lw->at[k - 1] * lw->at[k - 1])) /
+						    (2.0 * (i - lw->at[k - 1]));
+			lw->z[k + 1] = INFINITY;
+		}
+		int e = 0;
+		for (int q = 0; q < nu; q++) {
+			size_t c = base + q;
+			if (k < 0) {
+				d2[c] = INFINITY;
+				if (nearest)
+					nearest[c] = -1;
+				continue;
+			}
+			while (lw->z[e + 1] < q)
+				e++;
+			int p = lw->at[e];
+			d2[c] = (float)((double)(q - p) * (q - p) + lw->f[p]);
+			if (nearest)
+				nearest[c] = row[base + p] * nu + p;
+		}
 	}
 }
 
@@ -213,15 +262,16 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 	s->u0 = lo_u - border * cell;
 	s->v0 = lo_v - border * cell;
 	size_t cells = (size_t)s->nu * (size_t)s->nv;
+	size_t line = (size_t)(s->nu > s->nv ? s->nu : s->nv);
 	uint8_t *mark = calloc(cells, 1);
 	int32_t *queue = malloc(cells * sizeof *queue);
+	line_work lw = {malloc(line * sizeof *lw.f), malloc((line + 1) * sizeof *lw.z), malloc(line * sizeof *lw.at)};
 	s->nearest = malloc(cells * sizeof *s->nearest);
 	s->inset = malloc(cells * sizeof *s->inset);
-	if (!mark || !queue || !s->nearest || !s->inset) {
-		free(mark);
-		free(queue);
-		dp_silhouette_free(s);
-		return dp_fail(err, DP_ERR_NOMEM, "silhouette: out of memory for %zu cells", cells);
+	dp_status st = DP_OK;
+	if (!mark || !queue || !lw.f || !lw.z || !lw.at || !s->nearest || !s->inset) {
+		st = dp_fail(err, DP_ERR_NOMEM, "silhouette: out of memory for %zu cells", cells);
+		goto done;
 	}
 	for (size_t i = 0; i < input->n; i++) {
 		double pu = input->x[i] * s->u[0] + input->y[i] * s->u[1] + input->z[i] * s->u[2];
@@ -230,35 +280,29 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 		mark[(size_t)b * s->nu + a] = 1;
 	}
 	/* grow by the margin: every cell whose centre lies within it of an
-	 * occupied cell's centre */
+	 * occupied cell's centre (s->inset is scratch until its own turn) */
+	double reach = margin / cell;
+	distance_transform(s->nu, s->nv, mark, s->inset, NULL, queue, &lw);
 	for (size_t c = 0; c < cells; c++)
-		s->nearest[c] = mark[c] ? (int32_t)c : -1;
-	for (int j = 0; j < s->nv; j++)
-		for (int i = 0; i < s->nu; i++) {
-			if (!mark[j * s->nu + i])
-				continue;
-			for (int b = j - grow; b <= j + grow; b++)
-				for (int a = i - grow; a <= i + grow; a++)
-					if ((double)(a - i) * (a - i) + (double)(b - j) * (b - j) <= (margin / cell) * (margin / cell))
-						s->nearest[(size_t)b * s->nu + a] = 0;
-		}
-	for (size_t c = 0; c < cells; c++)
-		mark[c] = s->nearest[c] >= 0;
+		mark[c] = s->inset[c] <= reach * reach;
 	fill_holes(s->nu, s->nv, mark, queue);
-	/* the inset first, spreading the nearest cell outside over the inside */
+	/* nearest: the nearest cell inside, a cell inside its own */
+	distance_transform(s->nu, s->nv, mark, s->inset, s->nearest, queue, &lw);
+	/* the inset: over the inside, the distance to the nearest cell outside */
 	for (size_t c = 0; c < cells; c++)
-		s->nearest[c] = mark[c] ? -1 : (int32_t)c;
-	spread_nearest(s->nu, s->nv, s->nearest, queue);
-	for (size_t c = 0; c < cells; c++) {
-		double di = (double)((int32_t)c % s->nu - s->nearest[c] % s->nu), dj = (double)((int32_t)c / s->nu - s->nearest[c] / s->nu);
-		s->inset[c] = mark[c] ? (float)(cell * sqrt(di * di + dj * dj)) : 0.0f;
-	}
+		mark[c] = !mark[c];
+	distance_transform(s->nu, s->nv, mark, s->inset, NULL, queue, &lw);
 	for (size_t c = 0; c < cells; c++)
-		s->nearest[c] = mark[c] ? (int32_t)c : -1;
-	spread_nearest(s->nu, s->nv, s->nearest, queue);
+		s->inset[c] = mark[c] ? 0.0f : (float)(cell * sqrt(s->inset[c]));
+done:
 	free(mark);
 	free(queue);
-	return DP_OK;
+	free(lw.f);
+	free(lw.z);
+	free(lw.at);
+	if (st != DP_OK)
+		dp_silhouette_free(s);
+	return st;
 }
 
 /* The inset at (x, y, z): 0 outside the grid. */
