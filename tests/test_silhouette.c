@@ -1,7 +1,7 @@
 /* The scan's outline (host/stages/silhouette.h, dp_surface_params.silhouette):
  * the view axis is found where a scanner's normals leave it, and only there;
  * points outside the outline come back across the axis, holes in it are
- * filled; anchors deeper than the outline's inset rise to it; the pipeline
+ * filled; anchors sunk out of the scan's outline come back into it; the pipeline
  * reports the axis and keeps every point inside. */
 #include "testkit.h"
 
@@ -206,35 +206,33 @@ static void test_grid_exact(void **state)
 }
 
 /* The front half of a unit sphere seen along z: its outline is the unit
- * disc, whose inset at the centre is 1, the sphere's radius. Anchors sunk
- * past the centre from samples at any angle come back to it; one short of
- * it stays. */
+ * disc (grown by 0.1). An anchor sunk from a sample at the rim straight
+ * across and out the far side comes back along its line to just inside the
+ * disc, a margin in; one sunk along the axis past the centre, still inside
+ * seen along z, stays, as does one at the centre. */
 static void test_cap(void **state)
 {
 	(void)state;
 	dp_error err = {0};
 	dp_cloud in = {0};
 	const size_t n = 20000;
+	const double margin = 0.1;
 	if (dp_cloud_alloc(&in, n, 0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	const double z[3] = {0.0, 0.0, 1.0};
 	normals_in_cap(n, z, 90.0, in.x, in.y, in.z);
 	dp_silhouette s = {0};
 	const float axis[3] = {0.0f, 0.0f, 1.0f};
-	if (dp_silhouette_build(&s, &in, axis, 0.01, 0.0, &err) != DP_OK)
+	if (dp_silhouette_build(&s, &in, axis, 0.01, margin, &err) != DP_OK)
 		fail_msg("%s", err.message);
-	for (int k = 0; k < 4; k++) {
-		double phi = k * 25.0 * M_PI / 180.0;
-		float p[3] = {(float)sin(phi), 0.0f, (float)cos(phi)};
-		float q[3] = {-p[0], -p[1], -p[2]}; /* twice the radius deep */
-		assert_int_equal(dp_silhouette_cap(&s, p, q), 1);
-		double off = sqrt(q[0] * q[0] + q[1] * q[1] + q[2] * q[2]);
-		printf("cap: sample %2d deg from the axis, anchor ends %.4f from the centre\n", k * 25, off);
-		assert_true(off < 0.05);
-	}
-	float p[3] = {0.0f, 0.0f, 1.0f}, q[3] = {0.0f, 0.0f, 0.2f};
-	assert_int_equal(dp_silhouette_cap(&s, p, q), 0);
-	assert_true(q[2] == 0.2f);
+	float p[3] = {0.99f, 0.0f, 0.14f}, q[3] = {-1.6f, 0.0f, 0.14f};
+	assert_int_equal(dp_silhouette_cap(&s, p, q), 1);
+	printf("cap: anchor sunk 2.6 across the disc ends at x = %.4f\n", q[0]);
+	assert_true(q[0] < -0.95 && q[0] > -1.0 - 0.02 && q[1] == 0.0f && q[2] == 0.14f);
+	float a[3] = {0.0f, 0.0f, 1.0f}, b[3] = {0.0f, 0.0f, -3.0f}, c[3] = {0.0f, 0.0f, 0.0f};
+	assert_int_equal(dp_silhouette_cap(&s, a, b), 0);
+	assert_true(b[2] == -3.0f);
+	assert_int_equal(dp_silhouette_cap(&s, a, c), 0);
 	dp_silhouette_free(&s);
 	dp_cloud_free(&in);
 }

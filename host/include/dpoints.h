@@ -992,8 +992,9 @@ typedef struct dp_result {
 	dp_backend_kind backend;
 	char device[DP_DEVICE_NAME_MAX]; /* dp_context_device_name of the context it ran on */
 	size_t even_moved;  /* points the even-spacing rounds moved (dp_refine_params.even_rounds) */
-	size_t silhouette_capped; /* anchors raised to the scan outline's inset (dp_surface_params.silhouette):
-	                             the ball an anchor centres lies inside the body, so inside the outline */
+	size_t silhouette_capped; /* anchors sunk out of the scan's outline seen along its view axis, moved back
+	                             along their lines into it (dp_surface_params.silhouette): the meso-skeleton
+	                             lies inside the object */
 } dp_result;
 
 /*

@@ -220,7 +220,8 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
 
 /* The scan's outline (silhouette.h): its axis, given or found from the WLOP
  * samples' normals, goes to every surface run (axis_out; all zero: none),
- * and each anchor deeper than the outline's inset is raised to it. */
+ * and each anchor sunk out of the scan's own outline comes back into it
+ * along its line (dp_silhouette_cap). */
 static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params *p, dp_result *res,
 				 double axis_out[3], dp_error *err)
 {

@@ -259,6 +259,7 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 		cell *= 1.5;
 	}
 	s->cell = cell;
+	s->margin = margin;
 	s->u0 = lo_u - border * cell;
 	s->v0 = lo_v - border * cell;
 	size_t cells = (size_t)s->nu * (size_t)s->nv;
@@ -315,20 +316,18 @@ static double inset_at(const dp_silhouette *s, double x, double y, double z)
 	return s->inset[(size_t)fv * s->nu + (size_t)fu];
 }
 
-/* Halvings of the bisection: the depth to 2^-7 of itself. */
+/* Halvings of the bisection: the anchor's place to 2^-7 of its depth. */
 #define CAP_HALVINGS 7
 
 int dp_silhouette_cap(const dp_silhouette *s, const float p[3], float q[3])
 {
-	double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]};
-	double depth = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
-	if (!(depth > inset_at(s, q[0], q[1], q[2])))
+	if (inset_at(s, q[0], q[1], q[2]) >= s->margin)
 		return 0;
-	/* t - inset(p + t d) rises through 0 between lo and hi */
-	double lo = 0.0, hi = 1.0;
+	/* from p, inside, to q, outside: the last place inside along the line */
+	double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, lo = 0.0, hi = 1.0;
 	for (int k = 0; k < CAP_HALVINGS; k++) {
 		double t = 0.5 * (lo + hi);
-		if (t * depth > inset_at(s, p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]))
+		if (inset_at(s, p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]) < s->margin)
 			hi = t;
 		else
 			lo = t;

@@ -27,6 +27,7 @@
 typedef struct dp_silhouette {
 	float axis[3], u[3], v[3]; /* the view axis and two directions across it */
 	double u0, v0, cell;       /* the grid's corner across the axis and its cell size */
+	double margin;             /* the outline's growth beyond the input */
 	int nu, nv;                /* cells along u and v */
 	int32_t *nearest;          /* per cell: itself when inside the outline, else the nearest cell inside */
 	float *inset;              /* per cell: distance from its centre to the nearest cell outside; 0 outside */
@@ -61,13 +62,16 @@ void dp_silhouette_free(dp_silhouette *s);
  * many moved. Any number of calls may run at once on disjoint points. */
 size_t dp_silhouette_hold(const dp_silhouette *s, size_t n, float *x, float *y, float *z);
 
-/* A ball inside the object is inside the outline seen along the axis, so an
- * anchor sunk from sample p to q, the centre of a ball through p of radius
- * |q - p|, lies no deeper than the outline's inset there: on a one-view
- * sphere that is its centre whatever the sample's normal; under a foot
- * whose sole was never scanned, half the foot's height. Moves q back along
- * its line towards p to where the two meet (to within a hundredth of the
- * depth) and returns 1, or leaves it and returns 0. Reads only s. */
+/* The meso-skeleton lies inside the object, so seen along the axis inside
+ * the scan's own outline (the outline less its margin, where the inset is
+ * at least the margin). An anchor sunk out of it, through a face never
+ * scanned (the soles of bun270's feet, whose tops face up: 148 anchors down
+ * to 13 r below the base), moves back along its line towards its sample p,
+ * which lies inside, to the last place inside (to within a 128th of its
+ * depth) and 1 is returned; an anchor inside stays (0). Only the centre is
+ * bounded: the stronger bound that an anchor's ball, radius its depth,
+ * lie inside the outline measured worse (README, result (35)). Reads
+ * only s. */
 int dp_silhouette_cap(const dp_silhouette *s, const float p[3], float q[3]);
 
 #endif
