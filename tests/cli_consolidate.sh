@@ -182,15 +182,15 @@ one_error_line bad_even 2 "even-spacing rounds"
 run bad_even_iters consolidate "$tmp/torus.ply" -o "$tmp/bad" --even-iters 0
 one_error_line bad_even_iters 2 "even-spacing rounds"
 
-# The scan's outline: an axis given is used and reported, --no-silhouette
-# reports none (300 samples are too few to find one).
-if expect_ok outline consolidate "$tmp/torus.ply" -o "$tmp/outline" --samples $m --view-axis 0,0,2 &&
+# The scan's outline: an axis given is used and reported (any length, 1e300
+# too), --no-silhouette reports none (300 samples are too few to find one).
+if expect_ok outline consolidate "$tmp/torus.ply" -o "$tmp/outline" --samples $m --view-axis 0,0,1e300 &&
 	expect_ok no_outline consolidate "$tmp/torus.ply" -o "$tmp/no_outline" --samples $m --no-silhouette; then
 	if msg=$(py '
 import json, sys
 on, off = (json.load(open(d + "/report.json")) for d in sys.argv[1:3])
 p, s = on["parameters"]["surface"], on["results"]["surface"]
-if not p["silhouette"] or p["silhouette_axis"] != [0, 0, 2] or p["silhouette_margin_r"] != 3:
+if not p["silhouette"] or p["silhouette_axis"] != [0, 0, 1e300] or p["silhouette_margin_r"] != 3:
     sys.exit("parameters %s" % p)
 if s["silhouette_axis"] != [0, 0, 1] or s["silhouette_grazing"] != -1 or s["silhouette_held"] < 0:
     sys.exit("results %s" % s)
@@ -206,7 +206,7 @@ one_error_line bad_axis 2 "three numbers"
 run bad_margin consolidate "$tmp/torus.ply" -o "$tmp/bad" --silhouette-margin -1
 one_error_line bad_margin 2 "silhouette margin"
 run bad_grazing consolidate "$tmp/torus.ply" -o "$tmp/bad" --silhouette-grazing 2
-one_error_line bad_grazing 2 "silhouette margin"
+one_error_line bad_grazing 2 "grazing fraction"
 
 # A stage stopped at its cap says so on stderr, even with --quiet.
 if expect_ok capped consolidate "$tmp/torus.ply" -o "$tmp/capped" --samples $m --wlop-iters 2 --quiet; then

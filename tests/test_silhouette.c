@@ -233,7 +233,21 @@ static void test_cap(void **state)
 	assert_int_equal(dp_silhouette_cap(&s, a, b), 0);
 	assert_true(b[2] == -3.0f);
 	assert_int_equal(dp_silhouette_cap(&s, a, c), 0);
+	/* a sample off the outline leaves its anchor where it is */
+	float off[3] = {3.0f, 0.0f, 0.0f}, far[3] = {6.0f, 0.0f, 0.0f};
+	assert_int_equal(dp_silhouette_cap(&s, off, far), 0);
+	assert_true(far[0] == 6.0f);
 	dp_silhouette_free(&s);
+	/* with no margin the outline itself bounds the anchor */
+	if (dp_silhouette_build(&s, &in, axis, 0.01, 0.0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	float q0[3] = {-5.0f, 0.0f, 0.14f};
+	assert_int_equal(dp_silhouette_cap(&s, p, q0), 1);
+	assert_true(q0[0] < -0.97f && q0[0] > -1.0f - 0.02f);
+	dp_silhouette_free(&s);
+	/* an axis not of unit length is refused */
+	const float half[3] = {0.0f, 0.0f, 0.5f};
+	assert_int_equal(dp_silhouette_build(&s, &in, half, 0.01, 0.0, &err), DP_ERR_ARG);
 	dp_cloud_free(&in);
 }
 

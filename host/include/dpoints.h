@@ -793,10 +793,12 @@ typedef struct dp_surface_params {
 	                             object that faces it, so nothing completion adds lies outside what the scan
 	                             covers seen that way (host/stages/silhouette.h); moves are across the axis
 	                             only. No axis, no outline. Default 1 */
-	double silhouette_axis[3]; /* the view axis (any length > 0; opposite views share it); all zero (default):
-	                             the direction to which at most silhouette_grazing of the samples' normals lie
-	                             within 10° of perpendicular, if one is (a scanner sees grazing surfaces worst),
-	                             among at least 1000 samples; else none */
+	double silhouette_axis[3]; /* the view axis (any finite length > 0; opposite views share it); all zero
+	                             (default): the direction to which the fewest of the samples' normals lie
+	                             within 10° of perpendicular (a scanner sees grazing surfaces worst), taken when
+	                             that is at most silhouette_grazing of at least 1000 samples and every other
+	                             direction that passes lies within 45° of it (a box-like object passes many
+	                             unrelated ones); else none */
 	double silhouette_grazing; /* in [0, 1]; default 0.065 (normals spread over every direction: about 0.17) */
 	double silhouette_margin_r; /* growth of the outline, r, >= 0; default 3 */
 } dp_surface_params;
@@ -816,7 +818,7 @@ typedef struct dp_surface_stats {
 	size_t sheet_points;     /* points moved across a skeletal sheet (sheet_points) */
 	double silhouette_axis[3]; /* the axis of the outline the points were held in; all zero: none */
 	double silhouette_grazing; /* the fraction of normals near perpendicular to the best axis tried; -1 when
-	                              the axis was given, 1 with fewer than 1000 samples */
+	                              the axis was given, 1 with fewer than 1000 samples, 0 with the outline off */
 	size_t silhouette_held;  /* points held back at the outline, over all iterations */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */

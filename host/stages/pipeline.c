@@ -47,11 +47,15 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 		return dp_fail(err, DP_ERR_ARG, "even-spacing rounds %d (must be >= 0) or iterations %d (must be >= 1) "
 			       "out of range", p->refine.even_rounds, p->refine.even_iters);
 	const dp_surface_params *s = &p->surface;
-	if (!(s->silhouette_margin_r >= 0.0 && isfinite(s->silhouette_margin_r)) ||
-	    !(s->silhouette_grazing >= 0.0 && s->silhouette_grazing <= 1.0) || !isfinite(s->silhouette_axis[0]) ||
-	    !isfinite(s->silhouette_axis[1]) || !isfinite(s->silhouette_axis[2]))
-		return dp_fail(err, DP_ERR_ARG, "silhouette margin %g r (must be >= 0), grazing fraction %g (must be in "
-			       "[0, 1]) or view axis out of range", s->silhouette_margin_r, s->silhouette_grazing);
+	const double *g = s->silhouette_axis;
+	float unit[3];
+	if (!(s->silhouette_margin_r >= 0.0 && isfinite(s->silhouette_margin_r)))
+		return dp_fail(err, DP_ERR_ARG, "silhouette margin %g r is not a finite number >= 0",
+			       s->silhouette_margin_r);
+	if (!(s->silhouette_grazing >= 0.0 && s->silhouette_grazing <= 1.0))
+		return dp_fail(err, DP_ERR_ARG, "silhouette grazing fraction %g is not in [0, 1]", s->silhouette_grazing);
+	if ((g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) && !dp_silhouette_unit(g, unit))
+		return dp_fail(err, DP_ERR_ARG, "view axis (%g, %g, %g) has no direction", g[0], g[1], g[2]);
 	return DP_OK;
 }
 
@@ -353,10 +357,8 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	}
 	double axis[3];
 	st = outline_anchors(input, &params->surface, res, axis, err);
-	if (st != DP_OK) {
-		in_stage(err, st, "sink");
-		goto fail;
-	}
+	if (st != DP_OK)
+		goto fail; /* its errors name the silhouette */
 	st = dp_skeleton(ctx, &res->anchors, res->r, &params->skeleton, &res->skeleton, &res->skeleton_stats, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "skeleton");

@@ -19,7 +19,7 @@
  * from the best, and on its one-view scan the best lay 40° from the eye,
  * cutting 0.34% of the true surface off (none along the eye's own axis). */
 #define AXIS_UNIQUE_COS 0.7071067811865476
-/* The grid holds at most this many cells (9 bytes each and 4 more while it
+/* The grid holds at most this many cells (8 bytes each and 5 more while it
  * is built: 52 MB at most); a finer outline is coarsened. */
 #define MAX_CELLS (1 << 22)
 
@@ -86,13 +86,24 @@ void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float 
 	memcpy(axis, best, sizeof best);
 }
 
+int dp_silhouette_unit(const double given[3], float axis[3])
+{
+	/* scaled by its largest component first: squares of 1e200 or 1e-200
+	 * would leave double's range */
+	double big = fmax(fabs(given[0]), fmax(fabs(given[1]), fabs(given[2])));
+	if (!(big > 0.0) || !isfinite(big))
+		return 0;
+	double g[3] = {given[0] / big, given[1] / big, given[2] / big};
+	double len = sqrt(g[0] * g[0] + g[1] * g[1] + g[2] * g[2]);
+	for (int c = 0; c < 3; c++)
+		axis[c] = (float)(g[c] / len);
+	return 1;
+}
+
 void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const float *ny, const float *nz,
 			double grazing, int *found, float axis[3], double *fraction)
 {
-	double len = sqrt(given[0] * given[0] + given[1] * given[1] + given[2] * given[2]);
-	if (len > 0.0) {
-		for (int c = 0; c < 3; c++)
-			axis[c] = (float)(given[c] / len);
+	if (dp_silhouette_unit(given, axis)) {
 		*found = 1;
 		*fraction = -1.0;
 		return;
@@ -234,9 +245,11 @@ static void fill_holes(int nu, int nv, uint8_t *mark, int32_t *queue)
 dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const float axis[3], double cell, double margin,
 			      dp_error *err)
 {
-	if (!input->n || !(cell > 0.0) || !isfinite(cell) || !(margin >= 0.0) || !isfinite(margin))
-		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g", input->n, cell,
-			       margin);
+	double len = sqrt((double)axis[0] * axis[0] + (double)axis[1] * axis[1] + (double)axis[2] * axis[2]);
+	if (!input->n || !(cell > 0.0) || !isfinite(cell) || !(margin >= 0.0) || !isfinite(margin) ||
+	    !(fabs(len - 1.0) < 1e-3))
+		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g, axis of length %g",
+			       input->n, cell, margin, len);
 	dp_silhouette_free(s);
 	memcpy(s->axis, axis, sizeof s->axis);
 	across(axis, s->u, s->v);
@@ -246,13 +259,17 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 		double pv = input->x[i] * s->v[0] + input->y[i] * s->v[1] + input->z[i] * s->v[2];
 		lo_u = fmin(lo_u, pu), hi_u = fmax(hi_u, pu), lo_v = fmin(lo_v, pv), hi_v = fmax(hi_v, pv);
 	}
-	/* coarsen until the grid, margin and border included, fits */
-	int grow = 0, border = 0;
+	/* coarsen until the grid, margin and border included, fits; the spans
+	 * are finite (finite input along a unit axis), so a finite cell ends it */
+	int border = 0;
 	for (;;) {
-		grow = (int)ceil(margin / cell);
-		border = grow + 2;
-		double nu = ceil((hi_u - lo_u) / cell) + 1.0 + 2.0 * border, nv = ceil((hi_v - lo_v) / cell) + 1.0 + 2.0 * border;
+		double grow = ceil(margin / cell), nu = ceil((hi_u - lo_u) / cell) + 1.0 + 2.0 * (grow + 2.0),
+		       nv = ceil((hi_v - lo_v) / cell) + 1.0 + 2.0 * (grow + 2.0);
+		if (!isfinite(cell) || !isfinite(nu * nv))
+			return dp_fail(err, DP_ERR_ARG, "silhouette: no grid of cells fits an outline %g x %g wide",
+				       hi_u - lo_u, hi_v - lo_v);
 		if (nu * nv <= MAX_CELLS) {
+			border = (int)grow + 2;
 			s->nu = (int)nu, s->nv = (int)nv;
 			break;
 		}
@@ -277,7 +294,9 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 	for (size_t i = 0; i < input->n; i++) {
 		double pu = input->x[i] * s->u[0] + input->y[i] * s->u[1] + input->z[i] * s->u[2];
 		double pv = input->x[i] * s->v[0] + input->y[i] * s->v[1] + input->z[i] * s->v[2];
-		int a = (int)floor((pu - s->u0) / cell), b = (int)floor((pv - s->v0) / cell);
+		/* inside by construction; clamped against rounding all the same */
+		double fa = floor((pu - s->u0) / cell), fb = floor((pv - s->v0) / cell);
+		int a = fa < 0.0 ? 0 : fa >= s->nu ? s->nu - 1 : (int)fa, b = fb < 0.0 ? 0 : fb >= s->nv ? s->nv - 1 : (int)fb;
 		mark[(size_t)b * s->nu + a] = 1;
 	}
 	/* grow by the margin: every cell whose centre lies within it of an
@@ -306,14 +325,16 @@ done:
 	return st;
 }
 
-/* The inset at (x, y, z): 0 outside the grid. */
-static double inset_at(const dp_silhouette *s, double x, double y, double z)
+/* Whether (x, y, z) lies inside the outline by at least s->margin (inside
+ * it at all when the margin is 0): off the grid and outside, no. */
+static int inside_by_margin(const dp_silhouette *s, double x, double y, double z)
 {
 	double pu = x * s->u[0] + y * s->u[1] + z * s->u[2], pv = x * s->v[0] + y * s->v[1] + z * s->v[2];
 	double fu = floor((pu - s->u0) / s->cell), fv = floor((pv - s->v0) / s->cell);
 	if (!(fu >= 0.0 && fu < s->nu && fv >= 0.0 && fv < s->nv))
-		return 0.0;
-	return s->inset[(size_t)fv * s->nu + (size_t)fu];
+		return 0;
+	size_t c = (size_t)fv * s->nu + (size_t)fu;
+	return s->nearest[c] == (int32_t)c && s->inset[c] >= s->margin;
 }
 
 /* Halvings of the bisection: the anchor's place to 2^-7 of its depth. */
@@ -321,13 +342,15 @@ static double inset_at(const dp_silhouette *s, double x, double y, double z)
 
 int dp_silhouette_cap(const dp_silhouette *s, const float p[3], float q[3])
 {
-	if (inset_at(s, q[0], q[1], q[2]) >= s->margin)
+	/* an anchor inside stays; so does one whose sample is not inside (WLOP
+	 * samples lie on the input, so that is only rounding at the edge) */
+	if (inside_by_margin(s, q[0], q[1], q[2]) || !inside_by_margin(s, p[0], p[1], p[2]))
 		return 0;
 	/* from p, inside, to q, outside: the last place inside along the line */
 	double d[3] = {q[0] - p[0], q[1] - p[1], q[2] - p[2]}, lo = 0.0, hi = 1.0;
 	for (int k = 0; k < CAP_HALVINGS; k++) {
 		double t = 0.5 * (lo + hi);
-		if (inset_at(s, p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]) < s->margin)
+		if (!inside_by_margin(s, p[0] + t * d[0], p[1] + t * d[1], p[2] + t * d[2]))
 			hi = t;
 		else
 			lo = t;
@@ -345,8 +368,8 @@ size_t dp_silhouette_hold(const dp_silhouette *s, size_t n, float *x, float *y, 
 		double pv = x[i] * s->v[0] + y[i] * s->v[1] + z[i] * s->v[2];
 		double fu = floor((pu - s->u0) / s->cell), fv = floor((pv - s->v0) / s->cell);
 		int within = fu >= 0.0 && fu < s->nu && fv >= 0.0 && fv < s->nv;
-		int a = fu < 0.0 ? 0 : fu >= s->nu ? s->nu - 1 : (int)fu;
-		int b = fv < 0.0 ? 0 : fv >= s->nv ? s->nv - 1 : (int)fv;
+		int a = !(fu >= 0.0) ? 0 : fu >= s->nu ? s->nu - 1 : (int)fu;
+		int b = !(fv >= 0.0) ? 0 : fv >= s->nv ? s->nv - 1 : (int)fv;
 		int32_t c = b * s->nu + a, k = s->nearest[c];
 		if (within && k == c)
 			continue;

@@ -10,11 +10,11 @@
  * shows; with a margin of 3 r no sample of the true surface of any of the
  * bunny's six one- and two-view scans lies outside the outline.
  *
- * The axis is found, not given: a scanner sees surfaces at a grazing angle
- * worst, so few sample normals lie within 10° of perpendicular to it (0.5-
- * 2.5% on the bunny's four single views, 2.6-5.5% on its two opposite pairs)
- * while normals spread over every direction put about 17% there (7.7-10.2%
- * on the data folder's complete scans at 4000 samples, at the emptiest
+ * Unless given, the axis is found: a scanner sees surfaces at a grazing
+ * angle worst, so few sample normals lie within 10° of perpendicular to it
+ * (0.6-2.7% on the bunny's four single views, 2.7-5.7% on its two opposite
+ * pairs) while normals spread over every direction put about 17% there
+ * (7.7-15.4% on the data folder's complete scans, at the emptiest
  * direction). A wrong axis on a complete scan is harmless: its outline holds
  * all of the object. */
 #ifndef DP_STAGES_SILHOUETTE_H
@@ -43,6 +43,9 @@ typedef struct dp_silhouette {
 #define DP_SILHOUETTE_MIN_NORMALS 1000
 void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float *nz, double grazing, int *found,
 			float axis[3], double *fraction);
+/* `given` scaled to unit length into axis: 1, or 0 when it is all zero or
+ * not finite. */
+int dp_silhouette_unit(const double given[3], float axis[3]);
 /* The axis `given` scaled to unit length (*found = 1, *fraction = -1) or,
  * when it is all zero, dp_silhouette_axis's. */
 void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const float *ny, const float *nz,
@@ -51,8 +54,9 @@ void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const 
 /* The outline of `input` seen along the unit `axis`: cells of `cell` across
  * it that an input point falls in, grown by `margin` (>= 0) and with every
  * hole the outline encloses filled. Zero-initialise `s` first; free with
- * dp_silhouette_free. DP_ERR_NOMEM, DP_ERR_ARG for an empty input or a cell
- * that is not positive. */
+ * dp_silhouette_free. DP_ERR_NOMEM, DP_ERR_ARG for an empty input, a cell
+ * or margin that is not a finite number (> 0, >= 0), an axis not of unit
+ * length, or spans no grid fits. */
 dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const float axis[3], double cell, double margin,
 			      dp_error *err);
 void dp_silhouette_free(dp_silhouette *s);

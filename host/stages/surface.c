@@ -123,7 +123,7 @@ void dp_surface_params_default(dp_surface_params *p)
 	p->sheet_points = 1;
 	p->silhouette = 1;
 	p->silhouette_axis[0] = p->silhouette_axis[1] = p->silhouette_axis[2] = 0.0;
-	/* between the bunny's scans (0.005-0.055) and the data folder's
+	/* between the bunny's scans (0.006-0.057) and the data folder's
 	 * complete ones (0.077 and more): silhouette.h */
 	p->silhouette_grazing = 0.065;
 	/* the smallest margin within which every sample of the bunny's true
@@ -791,6 +791,9 @@ static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, 
 		if ((s = dp_sheet_points_lift(&sheet, &st->sheet_points, err)) != DP_OK)
 			return s;
 		if (st->sheet_points > 0) {
+			/* a lifted point may have crossed the outline */
+			if (w->outline.nearest)
+				st->silhouette_held += dp_silhouette_hold(&w->outline, n, a[A_PX], a[A_PY], a[A_PZ]);
 			lengths(w, n, r, p->same_side);
 			return dp_op_surface_data(ctx, &data, err);
 		}
