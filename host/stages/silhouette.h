@@ -70,9 +70,10 @@ size_t dp_silhouette_hold(const dp_silhouette *s, size_t n, float *x, float *y, 
  * the scan's own outline (the outline less its margin, where the inset is
  * at least the margin). An anchor sunk out of it, through a face never
  * scanned (the soles of bun270's feet, whose tops face up: 148 anchors down
- * to 13 r below the base), moves back along its line towards its sample p,
- * which lies inside, to the last place inside (to within a 128th of its
- * depth) and 1 is returned; an anchor inside stays (0). Only the centre is
+ * to 13 r below the base), moves back along its line towards its sample p
+ * to the last place inside (to within a 128th of its depth) and 1 is
+ * returned; an anchor inside, or one whose sample is not inside either,
+ * stays (0). Only the centre is
  * bounded: the stronger bound that an anchor's ball, radius its depth,
  * lie inside the outline measured worse (README, result (35)). Reads
  * only s. */
