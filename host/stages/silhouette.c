@@ -251,7 +251,6 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g, axis of length %g",
 			       input->n, cell, margin, len);
 	dp_silhouette_free(s);
-	memcpy(s->axis, axis, sizeof s->axis);
 	across(axis, s->u, s->v);
 	double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
 	for (size_t i = 0; i < input->n; i++) {

@@ -25,7 +25,7 @@
 #include <stdint.h>
 
 typedef struct dp_silhouette {
-	float axis[3], u[3], v[3]; /* the view axis and two directions across it */
+	float u[3], v[3];          /* two directions across the view axis */
 	double u0, v0, cell;       /* the grid's corner across the axis and its cell size */
 	double margin;             /* the outline's growth beyond the input */
 	int nu, nv;                /* cells along u and v */
