@@ -5,7 +5,7 @@
  *
  *   bench_completion [--case NAME,...] [--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR]
  *                    [--coarse N] [--surface-iters N] [--wlop-seed S] [--sink-depth 0|1] [--even-rounds N]
- *                    [--silhouette 0|1]
+ *                    [--silhouette 0|1] [--face-scanner 0|1]
  *
  * Cases (all by default):
  *   sphere   one view of the built-in sphere at each --samples count (default
@@ -47,6 +47,10 @@
  * --silhouette 0 lets completed points leave the scan's outline
  * (dp_surface_params.silhouette), to compare; every line prints the axis
  * found (all zero: none), the grazing fraction and how many were held.
+ * --face-scanner 0 leaves normals facing away from a one-sided scan's
+ * scanner as they are (dp_surface_params.face_scanner); every line prints
+ * the direction towards the scanner (all zero: none) and how many normals
+ * were turned, samples' before sinking and held points' in the surface stage.
  * --even-rounds sets dp_refine_params.even_rounds (default 0, off), whose
  * trade of even spacing against flips and accuracy these numbers show.
  * Real-data cases are skipped with a message when the data folder is absent.
@@ -86,6 +90,7 @@ typedef struct options {
 	uint64_t seed;
 	uint64_t wlop_seed; /* --wlop-seed: WLOP's initial sample choice, or 0 for the library's default */
 	int silhouette;     /* --silhouette 0 turns dp_surface_params.silhouette off */
+	int face_scanner;   /* --face-scanner 0 turns dp_surface_params.face_scanner off */
 	int sink_depth;     /* --sink-depth 0 leaves sink_depth out (a quarter to a half of a case's time) */
 } options;
 
@@ -106,7 +111,8 @@ static void print_stages(const dp_result *res)
 	       "\"surface\":%.3f,\"total\":%.3f},\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
 	       "\"capped\":{\"wlop\":%s,\"sink\":%s,\"skeleton\":%s,\"surface\":%s},\"surface_pairs\":%.4g,"
 	       "\"normals_disagreeing\":%zu,\"escaped\":%zu,\"even_moved\":%zu,"
-	       "\"silhouette\":{\"axis\":[%.3f,%.3f,%.3f],\"grazing\":%.4f,\"held\":%zu}",
+	       "\"silhouette\":{\"axis\":[%.3f,%.3f,%.3f],\"grazing\":%.4f,\"held\":%zu},"
+	       "\"scanner\":{\"toward\":[%.3f,%.3f,%.3f],\"samples_turned\":%zu,\"turned\":%zu}",
 	       res->surface.n, res->r, res->levels, res->wlop_stats.seconds, res->sink_stats.seconds,
 	       res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,
 	       res->wlop_stats.iterations, res->sink_stats.iterations, res->skeleton_stats.iterations,
@@ -116,7 +122,8 @@ static void print_stages(const dp_result *res)
 	       res->surface_stats.normals_disagreeing, res->surface_stats.escaped, res->even_moved,
 	       res->surface_stats.silhouette_axis[0], res->surface_stats.silhouette_axis[1],
 	       res->surface_stats.silhouette_axis[2], res->surface_stats.silhouette_grazing,
-	       res->surface_stats.silhouette_held);
+	       res->surface_stats.silhouette_held, res->surface_stats.scanner[0], res->surface_stats.scanner[1],
+	       res->surface_stats.scanner[2], res->scanner_turned, res->surface_stats.scanner_turned);
 }
 
 static void print_eval(const char *name, const dp_eval_result *e)
@@ -516,6 +523,7 @@ static void bench_params(dp_params *p)
 	if (opts->wlop_seed)
 		p->wlop.seed = opts->wlop_seed;
 	p->surface.silhouette = opts->silhouette;
+	p->surface.face_scanner = opts->face_scanner;
 }
 
 /* Reads `file` under the data folder into `in`: 1, or 0 after a "skipped"
@@ -786,6 +794,7 @@ static int parse(int argc, char **argv, options *o)
 	o->wlop_seed = 0;
 	o->sink_depth = 1;
 	o->silhouette = 1;
+	o->face_scanner = 1;
 	for (int i = 1; i + 1 < argc; i += 2) {
 		if (!strcmp(argv[i], "--case"))
 			o->cases = argv[i + 1];
@@ -813,6 +822,8 @@ static int parse(int argc, char **argv, options *o)
 			o->sink_depth = argv[i + 1][0] == '1';
 		else if (!strcmp(argv[i], "--silhouette") && (!strcmp(argv[i + 1], "0") || !strcmp(argv[i + 1], "1")))
 			o->silhouette = argv[i + 1][0] == '1';
+		else if (!strcmp(argv[i], "--face-scanner") && (!strcmp(argv[i + 1], "0") || !strcmp(argv[i + 1], "1")))
+			o->face_scanner = argv[i + 1][0] == '1';
 		else
 			return -1;
 	}
@@ -837,7 +848,8 @@ int main(int argc, char **argv)
 	if (parse(argc, argv, &o)) {
 		fprintf(stderr, "usage: bench_completion [--case sphere,bunny1,bunny2,heldout,chair,rods,statue,lamppost] "
 				"[--samples M,...] [--data DIR] [--device D] [--seed S] [--save DIR] [--coarse N] "
-				"[--surface-iters N] [--wlop-seed S] [--sink-depth 0|1] [--even-rounds N] [--silhouette 0|1]\n");
+				"[--surface-iters N] [--wlop-seed S] [--sink-depth 0|1] [--even-rounds N] [--silhouette 0|1]\n"
+				"                        [--face-scanner 0|1]\n");
 		return 2;
 	}
 	dp_context *ctx = NULL;

@@ -14,30 +14,6 @@
 
 #define NORMALS 4000
 
-/* n unit normals spread evenly over the directions within `cap_deg` of
- * `axis` (a Fibonacci spiral; 180: the whole sphere). */
-static void normals_in_cap(size_t n, const double axis[3], double cap_deg, float *nx, float *ny, float *nz)
-{
-	double a[3] = {axis[0], axis[1], axis[2]}, len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
-	for (int c = 0; c < 3; c++)
-		a[c] /= len;
-	/* u, v across the axis */
-	double e[3] = {fabs(a[0]) < 0.9 ? 1.0 : 0.0, fabs(a[0]) < 0.9 ? 0.0 : 1.0, 0.0};
-	double u[3] = {a[1] * e[2] - a[2] * e[1], a[2] * e[0] - a[0] * e[2], a[0] * e[1] - a[1] * e[0]};
-	double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
-	for (int c = 0; c < 3; c++)
-		u[c] /= ul;
-	double v[3] = {a[1] * u[2] - a[2] * u[1], a[2] * u[0] - a[0] * u[2], a[0] * u[1] - a[1] * u[0]};
-	double zmin = cos(cap_deg * M_PI / 180.0), golden = M_PI * (3.0 - sqrt(5.0));
-	for (size_t i = 0; i < n; i++) {
-		double z = 1.0 - (1.0 - zmin) * ((double)i + 0.5) / (double)n, s = sqrt(1.0 - z * z), t = golden * (double)i;
-		double w[3];
-		for (int c = 0; c < 3; c++)
-			w[c] = z * a[c] + s * cos(t) * u[c] + s * sin(t) * v[c];
-		nx[i] = (float)w[0], ny[i] = (float)w[1], nz[i] = (float)w[2];
-	}
-}
-
 static double angle_deg(const float a[3], const double b[3])
 {
 	double bl = sqrt(b[0] * b[0] + b[1] * b[1] + b[2] * b[2]);
@@ -52,7 +28,7 @@ static void test_axis_one_view(void **state)
 	(void)state;
 	float nx[NORMALS], ny[NORMALS], nz[NORMALS], axis[3];
 	const double eye[3] = {0.6, -0.3, 0.74};
-	normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
+	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
 	int found = 0;
 	double fraction = 1.0;
 	dp_silhouette_axis(NORMALS, nx, ny, nz, 0.065, &found, axis, &fraction);
@@ -69,14 +45,14 @@ static void test_axis_none(void **state)
 	(void)state;
 	float nx[NORMALS], ny[NORMALS], nz[NORMALS], axis[3];
 	const double z[3] = {0.0, 0.0, 1.0};
-	normals_in_cap(NORMALS, z, 180.0, nx, ny, nz);
+	tk_normals_in_cap(NORMALS, z, 180.0, nx, ny, nz);
 	int found = 1;
 	double fraction = 0.0;
 	dp_silhouette_axis(NORMALS, nx, ny, nz, 0.065, &found, axis, &fraction);
 	printf("all round: found %d, grazing %.4f\n", found, fraction);
 	assert_false(found);
 	assert_true(fraction > 0.12 && fraction < 0.22);
-	normals_in_cap(DP_SILHOUETTE_MIN_NORMALS - 1, z, 75.0, nx, ny, nz);
+	tk_normals_in_cap(DP_SILHOUETTE_MIN_NORMALS - 1, z, 75.0, nx, ny, nz);
 	dp_silhouette_axis(DP_SILHOUETTE_MIN_NORMALS - 1, nx, ny, nz, 0.065, &found, axis, &fraction);
 	assert_false(found);
 	assert_true(fraction == 1.0);
@@ -220,7 +196,7 @@ static void test_cap(void **state)
 	if (dp_cloud_alloc(&in, n, 0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	const double z[3] = {0.0, 0.0, 1.0};
-	normals_in_cap(n, z, 90.0, in.x, in.y, in.z);
+	tk_normals_in_cap(n, z, 90.0, in.x, in.y, in.z);
 	dp_silhouette s = {0};
 	const float axis[3] = {0.0f, 0.0f, 1.0f};
 	if (dp_silhouette_build(&s, &in, axis, 0.01, margin, &err) != DP_OK)

@@ -94,7 +94,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	dp_params_default(&job.params);
 	const char *outdir = NULL, *device = NULL;
 	int backend = 0, quiet = 0, prior = 0, no_reattach = 0, weight = (int)job.params.wlop.weight, data_term = 0;
-	int any_side = 0, old_orient = 0, along = 0, no_sheet_points = 0, no_silhouette = 0;
+	int any_side = 0, old_orient = 0, along = 0, no_sheet_points = 0, no_silhouette = 0, no_face_scanner = 0;
 	const char *samples = NULL;
 	const char *list_file = NULL, *shard_text = NULL;
 	int skip_done = 0, up_given = 0;
@@ -237,6 +237,12 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--silhouette-grazing", CLI_DOUBLE, &p->surface.silhouette_grazing,
 		 "a view axis is a direction to which at most this fraction of the normals lie within 10 degrees of "
 		 "perpendicular", NULL, NULL},
+		{"--no-face-scanner", CLI_FLAG, &no_face_scanner,
+		 "leave normals that face away from the scanner of a one-sided scan as orientation signed them, "
+		 "instead of turning those on the scan to face it (README \"Completion\")", NULL, NULL},
+		{"--face-scanner-cos", CLI_DOUBLE, &p->surface.face_scanner_cos,
+		 "a normal on a one-sided scan is turned to face the scanner when it points within acos of this of "
+		 "straight away from it", NULL, NULL},
 		{"--coarse-samples", CLI_COUNT, &p->refine.coarse_samples,
 		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
@@ -308,6 +314,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 	p->surface.orient_by_dpoint = !old_orient;
 	p->surface.sheet_points = !no_sheet_points;
 	p->surface.silhouette = !no_silhouette;
+	p->surface.face_scanner = !no_face_scanner;
 	p->surface.data_along_normal = data_term == 0;
 	p->wlop.weight = (dp_wlop_weight)weight;
 	dp_cli_list all = {0}, devices = {0};

@@ -801,6 +801,19 @@ typedef struct dp_surface_params {
 	                             unrelated ones); else none */
 	double silhouette_grazing; /* in [0, 1]; default 0.065 (normals spread over every direction: about 0.17) */
 	double silhouette_margin_r; /* growth of the outline, r, >= 0; default 3 */
+	int face_scanner;         /* 1: where the scan was taken from one side of the view axis (given or found
+	                             as for silhouette, whether or not that is on): of the samples' normals that
+	                             point within acos(face_scanner_cos) of the axis either way, no more than one
+	                             in a hundred point the other way. A range scanner records only what faces it, so
+	                             the PCA normal of a point input holds takes the sign that faces the scanner
+	                             wherever it points that clearly along the axis (host/stages/scanner.h);
+	                             dp_consolidate turns the WLOP samples' normals the same way before sinking.
+	                             Default 1 */
+	double face_scanner_cos;  /* in [0, 1); default 0.5: views up to 30° off the axis leave every true normal
+	                             alone */
+	int scanner_side;         /* +1 or -1: the scan was taken from that side of silhouette_axis (which must
+	                             then be given); 0 (default): read it off the samples' normals. dp_consolidate
+	                             sets it for the levels, whose samples are the completed surface */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);
@@ -818,8 +831,13 @@ typedef struct dp_surface_stats {
 	size_t sheet_points;     /* points moved across a skeletal sheet (sheet_points) */
 	double silhouette_axis[3]; /* the axis of the outline the points were held in; all zero: none */
 	double silhouette_grazing; /* the fraction of normals near perpendicular to the best axis tried; -1 when
-	                              the axis was given, 1 with fewer than 1000 samples, 0 with the outline off */
+	                              the axis was given, 1 with fewer than 1000 samples, 0 when neither the
+	                              outline nor face_scanner looked for one */
 	size_t silhouette_held;  /* points held back at the outline, over all iterations */
+	double scanner[3];       /* unit direction towards the scanner the held points' normals faced
+	                            (face_scanner); all zero: none */
+	size_t scanner_turned;   /* held points whose PCA normal took the scanner's sign against the one it
+	                            would have had, over all iterations */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
 } dp_surface_stats;
@@ -997,6 +1015,8 @@ typedef struct dp_result {
 	size_t silhouette_capped; /* anchors sunk out of the scan's outline seen along its view axis, moved back
 	                             along their lines into it (dp_surface_params.silhouette): the meso-skeleton
 	                             lies inside the object */
+	size_t scanner_turned;    /* WLOP samples' normals turned to face the scanner before sinking
+	                             (dp_surface_params.face_scanner) */
 } dp_result;
 
 /*

@@ -4,6 +4,7 @@
 #include "core/distinct.h"
 #include "knn/knn.h"
 #include "stages/refine.h"
+#include "stages/scanner.h"
 #include "stages/silhouette.h"
 #include "stages/input_check.h"
 #include "stages/surface.h"
@@ -54,6 +55,10 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 			       s->silhouette_margin_r);
 	if (!(s->silhouette_grazing >= 0.0 && s->silhouette_grazing <= 1.0))
 		return dp_fail(err, DP_ERR_ARG, "silhouette grazing fraction %g is not in [0, 1]", s->silhouette_grazing);
+	if (!(s->face_scanner_cos >= 0.0 && s->face_scanner_cos < 1.0))
+		return dp_fail(err, DP_ERR_ARG, "face-scanner cosine %g is not in [0, 1)", s->face_scanner_cos);
+	if (s->scanner_side < -1 || s->scanner_side > 1)
+		return dp_fail(err, DP_ERR_ARG, "scanner side %d is not -1, 0 or 1", s->scanner_side);
 	if ((g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) && !dp_silhouette_unit(g, unit))
 		return dp_fail(err, DP_ERR_ARG, "view axis (%g, %g, %g) has no direction", g[0], g[1], g[2]);
 	return DP_OK;
@@ -95,6 +100,7 @@ static void add_run(dp_result *res, const dp_surface_stats *st)
 	all->escaped += st->escaped;
 	all->sheet_points += st->sheet_points;
 	all->silhouette_held += st->silhouette_held;
+	all->scanner_turned += st->scanner_turned;
 	all->normals_disagreeing = st->normals_disagreeing;
 	all->last_mean_move = st->last_mean_move;
 }
@@ -222,21 +228,41 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
 	return DP_OK;
 }
 
-/* The scan's outline (silhouette.h): its axis, given or found from the WLOP
- * samples' normals, goes to every surface run (axis_out; all zero: none),
- * and each anchor sunk out of the scan's own outline comes back into it
- * along its line (dp_silhouette_cap). */
-static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params *p, dp_result *res,
-				 double axis_out[3], dp_error *err)
+/* The scan's view axis, given or found from the WLOP samples' normals
+ * (silhouette.h; all zero: none), and the side it was taken from
+ * (scanner.h; 0: both or unknown), whose samples' normals then face it.
+ * Every surface run gets both: the levels' samples are the completed
+ * surface, whose normals face every way. */
+static void view_of_scan(const dp_surface_params *p, dp_result *res, double axis_out[3], int *side)
 {
 	axis_out[0] = axis_out[1] = axis_out[2] = 0.0;
-	if (!p->silhouette)
-		return DP_OK;
+	*side = 0;
+	if (!p->silhouette && !p->face_scanner)
+		return;
 	float axis[3];
 	int found = 0;
-	dp_silhouette_pick(p->silhouette_axis, res->wlop.n, res->wlop.nx, res->wlop.ny, res->wlop.nz, p->silhouette_grazing,
-			   &found, axis, &res->surface_stats.silhouette_grazing);
+	dp_cloud *w = &res->wlop;
+	dp_silhouette_pick(p->silhouette_axis, w->n, w->nx, w->ny, w->nz, p->silhouette_grazing, &found, axis,
+			   &res->surface_stats.silhouette_grazing);
 	if (!found)
+		return;
+	for (int c = 0; c < 3; c++)
+		axis_out[c] = axis[c];
+	if (!p->face_scanner)
+		return;
+	*side = dp_scanner_side(w->n, w->nx, w->ny, w->nz, axis, p->face_scanner_cos);
+	float toward[3] = {(float)*side * axis[0], (float)*side * axis[1], (float)*side * axis[2]};
+	if (*side)
+		res->scanner_turned = dp_scanner_face(w->n, w->nx, w->ny, w->nz, toward, p->face_scanner_cos);
+}
+
+/* Each anchor sunk out of the scan's own outline seen along `axis` (all
+ * zero: none) comes back into it along its line (dp_silhouette_cap). */
+static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params *p, const double axis_in[3],
+				 dp_result *res, dp_error *err)
+{
+	float axis[3];
+	if (!p->silhouette || !dp_silhouette_unit(axis_in, axis))
 		return DP_OK;
 	dp_silhouette outline = {0};
 	dp_status st = dp_silhouette_build(&outline, input, axis, res->r, p->silhouette_margin_r * res->r, err);
@@ -249,8 +275,6 @@ static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params 
 		}
 	}
 	dp_silhouette_free(&outline);
-	for (int c = 0; c < 3; c++)
-		axis_out[c] = axis[c];
 	return st;
 }
 
@@ -346,6 +370,9 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		goto fail;
 	}
 
+	double axis[3];
+	int side;
+	view_of_scan(&params->surface, res, axis, &side);
 	if (!(res->settled_by = dp_alloc_array(res->wlop.n, 1))) {
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", res->wlop.n);
 		goto fail;
@@ -355,8 +382,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "sink");
 		goto fail;
 	}
-	double axis[3];
-	st = outline_anchors(input, &params->surface, res, axis, err);
+	st = outline_anchors(input, &params->surface, axis, res, err);
 	if (st != DP_OK)
 		goto fail; /* its errors name the silhouette */
 	st = dp_skeleton(ctx, &res->anchors, res->r, &params->skeleton, &res->skeleton, &res->skeleton_stats, err);
@@ -387,7 +413,9 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	 * levels' samples are the completed surface, whose normals face every way */
 	dp_params later = *params;
 	memcpy(later.surface.silhouette_axis, axis, sizeof axis);
-	later.surface.silhouette = axis[0] != 0.0 || axis[1] != 0.0 || axis[2] != 0.0;
+	later.surface.silhouette = params->surface.silhouette && (axis[0] != 0.0 || axis[1] != 0.0 || axis[2] != 0.0);
+	later.surface.face_scanner = params->surface.face_scanner && side != 0;
+	later.surface.scanner_side = side;
 	dp_surface_params coarse_params = later.surface;
 	coarse_params.sheet_points = params->surface.sheet_points && levels == 1 && params->refine.even_rounds == 0;
 	if (st == DP_OK)
@@ -400,6 +428,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		res->surface_stats.converged = sst.converged;
 		res->surface_stats.spacing_growth = sst.spacing_growth;
 		memcpy(res->surface_stats.silhouette_axis, sst.silhouette_axis, sizeof sst.silhouette_axis);
+		memcpy(res->surface_stats.scanner, sst.scanner, sizeof sst.scanner);
 	}
 	dp_cloud_free(&coarse);
 	dp_cloud_free(&res->skeleton);

@@ -167,3 +167,25 @@ void tk_scan_shape(const char *name, int views, int res, double noise, uint64_t 
 	else
 		dp_cloud_free(&m);
 }
+
+void tk_normals_in_cap(size_t n, const double axis[3], double cap_deg, float *nx, float *ny, float *nz)
+{
+	double a[3] = {axis[0], axis[1], axis[2]}, len = sqrt(a[0] * a[0] + a[1] * a[1] + a[2] * a[2]);
+	for (int c = 0; c < 3; c++)
+		a[c] /= len;
+	/* u, v across the axis */
+	double e[3] = {fabs(a[0]) < 0.9 ? 1.0 : 0.0, fabs(a[0]) < 0.9 ? 0.0 : 1.0, 0.0};
+	double u[3] = {a[1] * e[2] - a[2] * e[1], a[2] * e[0] - a[0] * e[2], a[0] * e[1] - a[1] * e[0]};
+	double ul = sqrt(u[0] * u[0] + u[1] * u[1] + u[2] * u[2]);
+	for (int c = 0; c < 3; c++)
+		u[c] /= ul;
+	double v[3] = {a[1] * u[2] - a[2] * u[1], a[2] * u[0] - a[0] * u[2], a[0] * u[1] - a[1] * u[0]};
+	double zmin = cos(cap_deg * M_PI / 180.0), golden = M_PI * (3.0 - sqrt(5.0));
+	for (size_t i = 0; i < n; i++) {
+		double z = 1.0 - (1.0 - zmin) * ((double)i + 0.5) / (double)n, s = sqrt(1.0 - z * z), t = golden * (double)i;
+		double w[3];
+		for (int c = 0; c < 3; c++)
+			w[c] = z * a[c] + s * cos(t) * u[c] + s * sin(t) * v[c];
+		nx[i] = (float)w[0], ny[i] = (float)w[1], nz[i] = (float)w[2];
+	}
+}

@@ -53,4 +53,8 @@ void tk_scan_shape(const char *name, int views, int res, double noise, uint64_t 
 /* A fresh temporary folder (mkdtemp); static buffer. */
 const char *tk_temp_dir(void);
 
+/* n unit normals spread evenly over the directions within `cap_deg` of
+ * `axis` (a Fibonacci spiral; 180: the whole sphere). */
+void tk_normals_in_cap(size_t n, const double axis[3], double cap_deg, float *nx, float *ny, float *nz);
+
 #endif

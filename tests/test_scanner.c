@@ -1,0 +1,248 @@
+/* Facing the scanner (host/stages/scanner.h, dp_surface_params.face_scanner):
+ * a scan is one-sided when its clearly axial normals point one way along the
+ * view axis; the surface stage turns held points' normals that face away
+ * from the scanner, and leaves them without it; the pipeline finds the side
+ * of a one-view scan and none for two opposite views. */
+#include "testkit.h"
+
+#include "core/common.h"
+#include "stages/scanner.h"
+#include "stages/silhouette.h"
+
+#include <math.h>
+#include <stdlib.h>
+#include <string.h>
+
+#define NORMALS 4000
+/* radius of the negated patch, r */
+#define PATCH_R 4.0
+
+static double dot(const float *x, const float *y, const float *z, size_t i, const float t[3])
+{
+	return (double)x[i] * t[0] + (double)y[i] * t[1] + (double)z[i] * t[2];
+}
+
+/* Every k-th normal negated. */
+static void negate_every(size_t n, size_t k, float *nx, float *ny, float *nz)
+{
+	for (size_t i = 0; i < n; i += k)
+		nx[i] = -nx[i], ny[i] = -ny[i], nz[i] = -nz[i];
+}
+
+/* Normals within 75° of the eye face it: that side, and the other side
+ * along the opposite axis. One in 200 of them negated (orientation's slips)
+ * leave it one-sided, one in 50 two-sided; a whole sphere of normals is
+ * two-sided, and normals all across the axis say nothing. */
+static void test_side(void **state)
+{
+	(void)state;
+	float nx[NORMALS], ny[NORMALS], nz[NORMALS];
+	const double eye[3] = {0.6, -0.3, 0.74};
+	double len = sqrt(eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]);
+	const float axis[3] = {(float)(eye[0] / len), (float)(eye[1] / len), (float)(eye[2] / len)};
+	const float back[3] = {-axis[0], -axis[1], -axis[2]};
+	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
+	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 1);
+	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, back, 0.5), -1);
+	negate_every(NORMALS, 200, nx, ny, nz);
+	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 1);
+	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
+	negate_every(NORMALS, 50, nx, ny, nz);
+	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 0);
+	tk_normals_in_cap(NORMALS, eye, 180.0, nx, ny, nz);
+	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 0);
+	for (size_t i = 0; i < NORMALS; i++)
+		nx[i] = axis[1], ny[i] = -axis[0], nz[i] = 0.0f;
+	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 0);
+}
+
+/* Of normals within 75° of the eye with every 20th negated, exactly the
+ * negated ones within 60° of pointing straight away are turned back. */
+static void test_face(void **state)
+{
+	(void)state;
+	float nx[NORMALS], ny[NORMALS], nz[NORMALS];
+	const double eye[3] = {0.0, 0.0, 1.0};
+	const float toward[3] = {0.0f, 0.0f, 1.0f};
+	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
+	negate_every(NORMALS, 20, nx, ny, nz);
+	size_t away = 0, grazing = 0;
+	for (size_t i = 0; i < NORMALS; i++) {
+		away += nz[i] < -0.5f;
+		grazing += nz[i] < 0.0f && nz[i] >= -0.5f;
+	}
+	assert_true(away > 0 && grazing > 0);
+	assert_int_equal(dp_scanner_face(NORMALS, nx, ny, nz, toward, 0.5), away);
+	size_t left = 0;
+	for (size_t i = 0; i < NORMALS; i++) {
+		assert_true(nz[i] >= -0.5f);
+		left += nz[i] < 0.0f;
+	}
+	assert_int_equal(left, grazing);
+}
+
+/* The surface stage on a one-view scan of the built-in torus, from its own
+ * consolidation's samples and inner ends, the normals of a patch that faces
+ * the scanner negated. Input holds those points, so without the rule many
+ * keep the negated sign (a held point's normal keeps its sign: 20 of 54
+ * here); with it every one faces the scanner again. */
+static void test_surface_turns_held(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_cloud scan = {0};
+	tk_scan_shape("torus", 1, 96, 0.002, 1, NULL, NULL, &scan);
+	dp_params p;
+	dp_params_default(&p);
+	p.wlop.samples = 1500;
+	p.refine.coarse_samples = 0;
+	p.surface.face_scanner = 0;
+	dp_result res = {0};
+	if (dp_consolidate(tk_cl_context(), &scan, &p, &res, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	dp_cloud *s = &res.wlop;
+	float axis[3];
+	int found = 0;
+	double fraction;
+	dp_silhouette_axis(s->n, s->nx, s->ny, s->nz, p.surface.silhouette_grazing, &found, axis, &fraction);
+	assert_true(found);
+	int side = dp_scanner_side(s->n, s->nx, s->ny, s->nz, axis, p.surface.face_scanner_cos);
+	assert_int_not_equal(side, 0);
+	const float toward[3] = {(float)side * axis[0], (float)side * axis[1], (float)side * axis[2]};
+	/* a patch, as orientation gets a region wrong: the samples within 4 r
+	 * of the one that faces the scanner most squarely */
+	size_t centre = 0;
+	for (size_t i = 1; i < s->n; i++)
+		if (dot(s->nx, s->ny, s->nz, i, toward) > dot(s->nx, s->ny, s->nz, centre, toward))
+			centre = i;
+	unsigned char *negated = calloc(s->n, 1);
+	assert_non_null(negated);
+	size_t count = 0;
+	double reach2 = (PATCH_R * res.r) * (PATCH_R * res.r);
+	for (size_t i = 0; i < s->n; i++) {
+		double dx = s->x[i] - s->x[centre], dy = s->y[i] - s->y[centre], dz = s->z[i] - s->z[centre];
+		if (dx * dx + dy * dy + dz * dz < reach2) {
+			s->nx[i] = -s->nx[i], s->ny[i] = -s->ny[i], s->nz[i] = -s->nz[i];
+			negated[i] = 1;
+			count++;
+		}
+	}
+	size_t away[2] = {0, 0};
+	size_t turned = 0;
+	for (int on = 0; on <= 1; on++) {
+		dp_surface_params sp;
+		dp_surface_params_default(&sp);
+		sp.face_scanner = on;
+		/* as dp_consolidate passes them on: the patch alone makes the
+		 * samples two-sided (DP_SCANNER_MINORITY) */
+		sp.scanner_side = side;
+		for (int c = 0; c < 3; c++)
+			sp.silhouette_axis[c] = axis[c];
+		dp_cloud skeleton = {0}, out = {0};
+		dp_surface_stats st = {0};
+		if (dp_cloud_alloc(&skeleton, res.skeleton.n, 0, &err) != DP_OK)
+			fail_msg("%s", err.message);
+		memcpy(skeleton.x, res.skeleton.x, s->n * sizeof(float));
+		memcpy(skeleton.y, res.skeleton.y, s->n * sizeof(float));
+		memcpy(skeleton.z, res.skeleton.z, s->n * sizeof(float));
+		if (dp_surface(tk_cl_context(), &scan, s, &skeleton, NULL, res.r, &sp, &out, NULL, &st, &err) != DP_OK)
+			fail_msg("%s", err.message);
+		for (size_t i = 0; i < s->n; i++)
+			away[on] += negated[i] && dot(out.nx, out.ny, out.nz, i, toward) < 0.0;
+		if (on) {
+			turned = st.scanner_turned;
+			double d = st.scanner[0] * toward[0] + st.scanner[1] * toward[1] + st.scanner[2] * toward[2];
+			assert_true(d > 0.999);
+		} else {
+			assert_true(st.scanner[0] == 0.0 && st.scanner[1] == 0.0 && st.scanner[2] == 0.0);
+			assert_int_equal(st.scanner_turned, 0);
+		}
+		dp_cloud_free(&skeleton);
+		dp_cloud_free(&out);
+	}
+	printf("torus one view: %zu of %zu held normals negated; facing away at the end: %zu without the rule, %zu "
+	       "with it (%zu turns)\n",
+	       count, s->n, away[0], away[1], turned);
+	assert_true(count >= 30);
+	assert_true(away[0] * 4 >= count);
+	assert_int_equal(away[1], 0);
+	assert_true(turned >= count);
+	free(negated);
+	dp_result_free(&res);
+	dp_cloud_free(&scan);
+}
+
+/* The built-in torus seen from `views` eyes on the ring at elevation 0:
+ * two of them face each other along x. */
+static void scan_torus(int views, dp_cloud *scan)
+{
+	dp_error err = {0};
+	dp_shape shape;
+	dp_cloud mesh = {0};
+	dp_scan_params sp;
+	dp_scan_params_default(&sp);
+	sp.views = views;
+	sp.res = 96;
+	sp.noise = 0.002;
+	sp.normals = 0;
+	sp.elevation_deg = 0.0;
+	if (dp_shape_default("torus", &shape, &err) != DP_OK || dp_shape_mesh(&shape, &mesh, &err) != DP_OK ||
+	    dp_scan(&mesh, &sp, scan, NULL, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	dp_cloud_free(&mesh);
+}
+
+/* The pipeline: a one-view scan of the torus is one-sided and every sample
+ * then faces the scanner; two opposite views, along the axis they share,
+ * are not; with the rule off no side is reported. */
+static void test_pipeline_side(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_params p;
+	dp_params_default(&p);
+	p.wlop.samples = 1500;
+	p.refine.coarse_samples = 1000;
+	for (int views = 1; views <= 2; views++)
+		for (int on = 0; on <= 1; on++) {
+			dp_cloud scan = {0};
+			scan_torus(views, &scan);
+			p.surface.face_scanner = on;
+			p.surface.silhouette_axis[0] = views == 2 ? 1.0 : 0.0;
+			dp_result res = {0};
+			if (dp_consolidate(tk_cl_context(), &scan, &p, &res, &err) != DP_OK)
+				fail_msg("%s", err.message);
+			const double *t = res.surface_stats.scanner;
+			const double *a = res.surface_stats.silhouette_axis;
+			printf("torus, %d view%s, rule %s: axis (%.3f %.3f %.3f), scanner (%.3f %.3f %.3f), %zu samples and "
+			       "%zu held normals turned\n",
+			       views, views == 1 ? "" : "s", on ? "on" : "off", a[0], a[1], a[2], t[0], t[1], t[2],
+			       res.scanner_turned, res.surface_stats.scanner_turned);
+			double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
+			assert_true(fabs(a[0]) > 0.9);
+			if (views == 1 && on) {
+				assert_true(fabs(len - 1.0) < 1e-6);
+				assert_true(t[0] > 0.9);
+				for (size_t i = 0; i < res.wlop.n; i++)
+					assert_true(res.wlop.nx[i] * t[0] + res.wlop.ny[i] * t[1] + res.wlop.nz[i] * t[2] >=
+						    -p.surface.face_scanner_cos);
+			} else {
+				assert_true(len == 0.0);
+				assert_int_equal(res.scanner_turned + res.surface_stats.scanner_turned, 0);
+			}
+			tk_assert_rows_in_step(&res, 1500);
+			dp_result_free(&res);
+			dp_cloud_free(&scan);
+		}
+}
+
+int main(void)
+{
+	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_side),
+		cmocka_unit_test(test_face),
+		cmocka_unit_test(test_surface_turns_held),
+		cmocka_unit_test(test_pipeline_side),
+	};
+	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
+}
