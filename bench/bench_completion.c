@@ -112,7 +112,7 @@ static void print_stages(const dp_result *res)
 	       "\"capped\":{\"wlop\":%s,\"sink\":%s,\"skeleton\":%s,\"surface\":%s},\"surface_pairs\":%.4g,"
 	       "\"normals_disagreeing\":%zu,\"escaped\":%zu,\"even_moved\":%zu,"
 	       "\"silhouette\":{\"axis\":[%.3f,%.3f,%.3f],\"grazing\":%.4f,\"held\":%zu},"
-	       "\"scanner\":{\"toward\":[%.3f,%.3f,%.3f],\"samples_turned\":%zu,\"turned\":%zu}",
+	       "\"scanner\":{\"toward\":[%.3f,%.3f,%.3f],\"samples_turned\":%zu,\"scanner_turned\":%zu}",
 	       res->surface.n, res->r, res->levels, res->wlop_stats.seconds, res->sink_stats.seconds,
 	       res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,
 	       res->wlop_stats.iterations, res->sink_stats.iterations, res->skeleton_stats.iterations,
@@ -123,7 +123,7 @@ static void print_stages(const dp_result *res)
 	       res->surface_stats.silhouette_axis[0], res->surface_stats.silhouette_axis[1],
 	       res->surface_stats.silhouette_axis[2], res->surface_stats.silhouette_grazing,
 	       res->surface_stats.silhouette_held, res->surface_stats.scanner[0], res->surface_stats.scanner[1],
-	       res->surface_stats.scanner[2], res->scanner_turned, res->surface_stats.scanner_turned);
+	       res->surface_stats.scanner[2], res->samples_turned, res->surface_stats.scanner_turned);
 }
 
 static void print_eval(const char *name, const dp_eval_result *e)

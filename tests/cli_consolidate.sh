@@ -201,23 +201,27 @@ if off["parameters"]["surface"]["silhouette"] or t["silhouette_axis"] != [0, 0, 
 print("axis %s, %d held, %d anchors capped" % (s["silhouette_axis"], s["silhouette_held"], s["silhouette_capped"]))
 ' "$tmp/outline" "$tmp/no_outline" 2>&1); then ok "--view-axis: $msg"; else fail "--view-axis: $msg"; fi
 fi
-# Facing the scanner: on by default and reported; --no-face-scanner reports
-# no side and no turns, whatever the axis.
-if expect_ok no_face consolidate "$tmp/torus.ply" -o "$tmp/no_face" --samples $m --view-axis 0,0,1 --no-face-scanner \
-	--face-scanner-cos 0.7; then
+# Facing the scanner: a one-view scan whose eye lies along +x (the ring at
+# elevation 0), with that axis given, is one-sided towards +x and reported
+# so; --no-face-scanner reports no side and no turns.
+if expect_ok scan1 scan --shape torus --views 1 --elevation 0 --res 64 --noise 0.003 -o "$tmp/torus1.ply" &&
+	expect_ok face consolidate "$tmp/torus1.ply" -o "$tmp/face" --samples $m --view-axis -3,0,0 &&
+	expect_ok no_face consolidate "$tmp/torus1.ply" -o "$tmp/no_face" --samples $m --view-axis -3,0,0 \
+		--no-face-scanner --face-scanner-cos 0.7; then
 	if msg=$(py '
 import json, sys
 on, off = (json.load(open(d + "/report.json")) for d in sys.argv[1:3])
 p, s = on["parameters"]["surface"], on["results"]["surface"]
-if not p["face_scanner"] or p["face_scanner_cos"] != 0.5 or len(s["scanner"]) != 3 or s["samples_turned"] < 0 \
-        or s["scanner_turned"] < 0:
+t = s["scanner"]
+if not p["face_scanner"] or p["face_scanner_cos"] != 0.5 or p["scanner_side"] != 0 or len(t) != 3 \
+        or abs(t[0] - 1) > 1e-6 or t[1] != 0 or t[2] != 0 or s["samples_turned"] != 0:
     sys.exit("on: %s, %s" % (p, s))
-q, t = off["parameters"]["surface"], off["results"]["surface"]
-if q["face_scanner"] or q["face_scanner_cos"] != 0.7 or t["scanner"] != [0, 0, 0] or t["samples_turned"] != 0 \
-        or t["scanner_turned"] != 0:
-    sys.exit("--no-face-scanner: %s, %s" % (q, t))
-print("towards %s, %d samples and %d held normals turned" % (s["scanner"], s["samples_turned"], s["scanner_turned"]))
-' "$tmp/outline" "$tmp/no_face" 2>&1); then ok "--no-face-scanner: $msg"; else fail "--no-face-scanner: $msg"; fi
+q, u = off["parameters"]["surface"], off["results"]["surface"]
+if q["face_scanner"] or q["face_scanner_cos"] != 0.7 or u["scanner"] != [0, 0, 0] or u["samples_turned"] != 0 \
+        or u["scanner_turned"] != 0:
+    sys.exit("--no-face-scanner: %s, %s" % (q, u))
+print("towards %s, %d held normals turned" % (t, s["scanner_turned"]))
+' "$tmp/face" "$tmp/no_face" 2>&1); then ok "--no-face-scanner: $msg"; else fail "--no-face-scanner: $msg"; fi
 fi
 run bad_face consolidate "$tmp/torus.ply" -o "$tmp/bad" --face-scanner-cos 1
 one_error_line bad_face 2 "face-scanner cosine"

@@ -2,7 +2,8 @@
  * a scan is one-sided when its clearly axial normals point one way along the
  * view axis; the surface stage turns held points' normals that face away
  * from the scanner, and leaves them without it; the pipeline finds the side
- * of a one-view scan and none for two opposite views. */
+ * of a one-view scan and none for two opposite views, and takes a side
+ * given. */
 #include "testkit.h"
 
 #include "core/common.h"
@@ -192,48 +193,120 @@ static void scan_torus(int views, dp_cloud *scan)
 	dp_cloud_free(&mesh);
 }
 
-/* The pipeline: a one-view scan of the torus is one-sided and every sample
- * then faces the scanner; two opposite views, along the axis they share,
- * are not; with the rule off no side is reported. */
+/* Runs the pipeline on `scan` with 1500 deep points from 1000 coarse ones. */
+static void consolidate(const dp_cloud *scan, dp_params *p, dp_result *res)
+{
+	dp_error err = {0};
+	p->wlop.samples = 1500;
+	p->refine.coarse_samples = 1000;
+	if (dp_consolidate(tk_cl_context(), scan, p, res, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const double *t = res->surface_stats.scanner, *a = res->surface_stats.silhouette_axis;
+	printf("axis (%.3f %.3f %.3f), scanner (%.3f %.3f %.3f), %zu samples and %zu held normals turned\n", a[0], a[1],
+	       a[2], t[0], t[1], t[2], res->samples_turned, res->surface_stats.scanner_turned);
+	tk_assert_rows_in_step(res, 1500);
+}
+
+/* Every WLOP sample's normal within acos(-cos_min) of `toward`. */
+static void assert_samples_face(const dp_result *res, const double toward[3], double cos_min)
+{
+	const dp_cloud *w = &res->wlop;
+	for (size_t i = 0; i < w->n; i++)
+		assert_true(w->nx[i] * toward[0] + w->ny[i] * toward[1] + w->nz[i] * toward[2] >= -cos_min);
+}
+
+/* The pipeline: a one-view scan of the torus (its eye along +x) is found
+ * one-sided, with the outline on or off; two opposite views, along the axis
+ * they share, are not; with the rule off no side is reported. A side given
+ * is taken whatever the normals say (here the wrong one, so that the
+ * samples are turned towards it), and needs an axis. */
 static void test_pipeline_side(void **state)
 {
 	(void)state;
 	dp_error err = {0};
+	dp_cloud one = {0}, two = {0};
+	scan_torus(1, &one);
+	scan_torus(2, &two);
+	const double eye[3] = {1.0, 0.0, 0.0}, away[3] = {-1.0, 0.0, 0.0};
+	for (int outline = 0; outline <= 1; outline++) {
+		dp_params p;
+		dp_params_default(&p);
+		p.surface.silhouette = outline;
+		dp_result res = {0};
+		consolidate(&one, &p, &res);
+		const double *t = res.surface_stats.scanner;
+		assert_true(fabs(sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]) - 1.0) < 1e-6);
+		assert_true(t[0] > 0.99);
+		assert_samples_face(&res, t, p.surface.face_scanner_cos);
+		dp_result_free(&res);
+	}
+	for (int views = 1; views <= 2; views++) {
+		dp_params p;
+		dp_params_default(&p);
+		p.surface.face_scanner = views == 2;
+		p.surface.silhouette_axis[0] = 1.0;
+		dp_result res = {0};
+		consolidate(views == 1 ? &one : &two, &p, &res);
+		const double *t = res.surface_stats.scanner;
+		assert_true(t[0] == 0.0 && t[1] == 0.0 && t[2] == 0.0);
+		assert_int_equal(res.samples_turned + res.surface_stats.scanner_turned, 0);
+		dp_result_free(&res);
+	}
 	dp_params p;
 	dp_params_default(&p);
-	p.wlop.samples = 1500;
-	p.refine.coarse_samples = 1000;
-	for (int views = 1; views <= 2; views++)
-		for (int on = 0; on <= 1; on++) {
-			dp_cloud scan = {0};
-			scan_torus(views, &scan);
-			p.surface.face_scanner = on;
-			p.surface.silhouette_axis[0] = views == 2 ? 1.0 : 0.0;
-			dp_result res = {0};
-			if (dp_consolidate(tk_cl_context(), &scan, &p, &res, &err) != DP_OK)
-				fail_msg("%s", err.message);
-			const double *t = res.surface_stats.scanner;
-			const double *a = res.surface_stats.silhouette_axis;
-			printf("torus, %d view%s, rule %s: axis (%.3f %.3f %.3f), scanner (%.3f %.3f %.3f), %zu samples and "
-			       "%zu held normals turned\n",
-			       views, views == 1 ? "" : "s", on ? "on" : "off", a[0], a[1], a[2], t[0], t[1], t[2],
-			       res.scanner_turned, res.surface_stats.scanner_turned);
-			double len = sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]);
-			assert_true(fabs(a[0]) > 0.9);
-			if (views == 1 && on) {
-				assert_true(fabs(len - 1.0) < 1e-6);
-				assert_true(t[0] > 0.9);
-				for (size_t i = 0; i < res.wlop.n; i++)
-					assert_true(res.wlop.nx[i] * t[0] + res.wlop.ny[i] * t[1] + res.wlop.nz[i] * t[2] >=
-						    -p.surface.face_scanner_cos);
-			} else {
-				assert_true(len == 0.0);
-				assert_int_equal(res.scanner_turned + res.surface_stats.scanner_turned, 0);
-			}
-			tk_assert_rows_in_step(&res, 1500);
-			dp_result_free(&res);
-			dp_cloud_free(&scan);
-		}
+	p.surface.silhouette_axis[0] = 2.0;
+	p.surface.scanner_side = -1;
+	dp_result res = {0};
+	consolidate(&one, &p, &res);
+	assert_true(res.surface_stats.scanner[0] < -0.99);
+	assert_true(res.samples_turned > 100);
+	assert_samples_face(&res, away, p.surface.face_scanner_cos);
+	dp_result_free(&res);
+	p.surface.scanner_side = 1;
+	consolidate(&one, &p, &res);
+	assert_true(res.surface_stats.scanner[0] > 0.99);
+	assert_int_equal(res.samples_turned, 0);
+	assert_samples_face(&res, eye, p.surface.face_scanner_cos);
+	dp_result_free(&res);
+	p.surface.silhouette_axis[0] = 0.0;
+	assert_int_equal(dp_consolidate(tk_cl_context(), &one, &p, &res, &err), DP_ERR_ARG);
+	printf("%s\n", err.message);
+	assert_non_null(strstr(err.message, "scanner side"));
+	dp_cloud_free(&one);
+	dp_cloud_free(&two);
+}
+
+/* dp_surface alone: a side given without an axis is refused. */
+static void test_surface_side_needs_axis(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	dp_cloud input = {0}, samples = {0}, skeleton = {0}, out = {0};
+	if (dp_cloud_alloc(&input, 4, 0, &err) != DP_OK || dp_cloud_alloc(&samples, 4, 1, &err) != DP_OK ||
+	    dp_cloud_alloc(&skeleton, 4, 0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	for (size_t i = 0; i < 4; i++) {
+		input.x[i] = samples.x[i] = (float)(i % 2);
+		input.y[i] = samples.y[i] = (float)(i / 2);
+		input.z[i] = samples.z[i] = 0.0f;
+		samples.nx[i] = samples.ny[i] = 0.0f;
+		samples.nz[i] = 1.0f;
+		skeleton.x[i] = samples.x[i], skeleton.y[i] = samples.y[i], skeleton.z[i] = -1.0f;
+	}
+	dp_surface_params sp;
+	dp_surface_params_default(&sp);
+	sp.scanner_side = 1;
+	assert_int_equal(dp_surface(tk_cl_context(), &input, &samples, &skeleton, NULL, 1.0, &sp, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	printf("%s\n", err.message);
+	assert_non_null(strstr(err.message, "scanner side"));
+	sp.scanner_side = 2;
+	sp.silhouette_axis[2] = 1.0;
+	assert_int_equal(dp_surface(tk_cl_context(), &input, &samples, &skeleton, NULL, 1.0, &sp, &out, NULL, NULL, &err),
+			 DP_ERR_ARG);
+	dp_cloud_free(&input);
+	dp_cloud_free(&samples);
+	dp_cloud_free(&skeleton);
 }
 
 int main(void)
@@ -243,6 +316,7 @@ int main(void)
 		cmocka_unit_test(test_face),
 		cmocka_unit_test(test_surface_turns_held),
 		cmocka_unit_test(test_pipeline_side),
+		cmocka_unit_test(test_surface_side_needs_axis),
 	};
 	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);
 }

@@ -227,11 +227,11 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "leave completed points that came to rest in a skeletal sheet (a plate's middle, their normals along "
 		 "it) where they are, instead of moving them across it to the plate's face", NULL, NULL},
 		{"--no-silhouette", CLI_FLAG, &no_silhouette,
-		 "let completed points leave the scan's outline seen along its view axis (README \"Completion\")", NULL,
-		 NULL},
+		 "let completed points leave the scan's outline seen along its view axis (README \"The scan's outline\")",
+		 NULL, NULL},
 		{"--view-axis", CLI_VEC3, p->surface.silhouette_axis,
-		 "the scanner's view axis, whose outline holds the completed points (default: found from the normals, "
-		 "if there is one)", NULL, NULL},
+		 "the scanner's view axis, whose outline holds the completed points and along which a one-sided scan's "
+		 "normals face the scanner (default: found from the normals, if there is one)", NULL, NULL},
 		{"--silhouette-margin", CLI_DOUBLE, &p->surface.silhouette_margin_r,
 		 "growth of the scan's outline, in r", NULL, NULL},
 		{"--silhouette-grazing", CLI_DOUBLE, &p->surface.silhouette_grazing,
@@ -239,7 +239,7 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "perpendicular", NULL, NULL},
 		{"--no-face-scanner", CLI_FLAG, &no_face_scanner,
 		 "leave normals that face away from the scanner of a one-sided scan as orientation signed them, "
-		 "instead of turning those on the scan to face it (README \"Completion\")", NULL, NULL},
+		 "instead of turning those on the scan to face it (README \"Facing the scanner\")", NULL, NULL},
 		{"--face-scanner-cos", CLI_DOUBLE, &p->surface.face_scanner_cos,
 		 "a normal on a one-sided scan is turned to face the scanner when it points within acos of this of "
 		 "straight away from it", NULL, NULL},

@@ -767,7 +767,7 @@ typedef struct dp_surface_params {
 	int orient_by_dpoint;     /* 1: the PCA normal of a point no input holds (input support Σθ < 1: no input
 	                             point within about 1 r) takes the sign of the dpoint orientation
 	                             m = (p - q)/|p - q|, outward by construction; a held point's takes the sign of
-	                             its old normal, the data's orientation, which is right where an inner end sank
+	                             its old normal, the data's orientation (or the scanner's: face_scanner), which is right where an inner end sank
 	                             out of a thin part (measured over six WLOP seeds: two-view bunny 1.5% -> 1.0%
 	                             flipped, one-view 2.55% -> 2.42%, the chair the same); 0: the old normal's sign
 	                             everywhere; default 1 */
@@ -811,9 +811,10 @@ typedef struct dp_surface_params {
 	                             Default 1 */
 	double face_scanner_cos;  /* in [0, 1); default 0.5: views up to 30° off the axis leave every true normal
 	                             alone */
-	int scanner_side;         /* +1 or -1: the scan was taken from that side of silhouette_axis (which must
-	                             then be given); 0 (default): read it off the samples' normals. dp_consolidate
-	                             sets it for the levels, whose samples are the completed surface */
+	int scanner_side;         /* +1 or -1: the scan was taken from that side of silhouette_axis, which must
+	                             then be given, whatever the normals say; 0 (default): read it off the samples'
+	                             normals (dp_consolidate reads it off the WLOP samples once and passes it on to
+	                             the levels, whose samples are the completed surface) */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);
@@ -1015,7 +1016,7 @@ typedef struct dp_result {
 	size_t silhouette_capped; /* anchors sunk out of the scan's outline seen along its view axis, moved back
 	                             along their lines into it (dp_surface_params.silhouette): the meso-skeleton
 	                             lies inside the object */
-	size_t scanner_turned;    /* WLOP samples' normals turned to face the scanner before sinking
+	size_t samples_turned;    /* WLOP samples' normals turned to face the scanner before sinking
 	                             (dp_surface_params.face_scanner) */
 } dp_result;
 

@@ -112,6 +112,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_num(w, "silhouette_margin_r", p->silhouette_margin_r);
 	dp_json_bool(w, "face_scanner", p->face_scanner);
 	dp_json_num(w, "face_scanner_cos", p->face_scanner_cos);
+	dp_json_int(w, "scanner_side", p->scanner_side);
 	dp_json_end_object(w);
 }
 
@@ -208,7 +209,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 		dp_json_num(w, NULL, r->surface_stats.scanner[c]);
 	dp_json_end_array(w);
 	dp_json_int(w, "scanner_turned", (long long)r->surface_stats.scanner_turned);
-	dp_json_int(w, "samples_turned", (long long)r->scanner_turned);
+	dp_json_int(w, "samples_turned", (long long)r->samples_turned);
 	dp_json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);
 	dp_json_num(w, "seconds", r->surface_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->surface_stats.pair_evaluations);

@@ -59,6 +59,8 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 		return dp_fail(err, DP_ERR_ARG, "face-scanner cosine %g is not in [0, 1)", s->face_scanner_cos);
 	if (s->scanner_side < -1 || s->scanner_side > 1)
 		return dp_fail(err, DP_ERR_ARG, "scanner side %d is not -1, 0 or 1", s->scanner_side);
+	if (s->scanner_side && g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0)
+		return dp_fail(err, DP_ERR_ARG, "scanner side %d needs the view axis it lies along", s->scanner_side);
 	if ((g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) && !dp_silhouette_unit(g, unit))
 		return dp_fail(err, DP_ERR_ARG, "view axis (%g, %g, %g) has no direction", g[0], g[1], g[2]);
 	return DP_OK;
@@ -250,10 +252,12 @@ static void view_of_scan(const dp_surface_params *p, dp_result *res, double axis
 		axis_out[c] = axis[c];
 	if (!p->face_scanner)
 		return;
-	*side = dp_scanner_side(w->n, w->nx, w->ny, w->nz, axis, p->face_scanner_cos);
+	*side = p->scanner_side;
+	if (!*side)
+		*side = dp_scanner_side(w->n, w->nx, w->ny, w->nz, axis, p->face_scanner_cos);
 	float toward[3] = {(float)*side * axis[0], (float)*side * axis[1], (float)*side * axis[2]};
 	if (*side)
-		res->scanner_turned = dp_scanner_face(w->n, w->nx, w->ny, w->nz, toward, p->face_scanner_cos);
+		res->samples_turned = dp_scanner_face(w->n, w->nx, w->ny, w->nz, toward, p->face_scanner_cos);
 }
 
 /* Each anchor sunk out of the scan's own outline seen along `axis` (all
@@ -409,8 +413,9 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	dp_balls sunk = {n0, res->anchors.x, res->anchors.y, res->anchors.z, ball_radius}, *balls = escaping ? &sunk : NULL;
 	/* points stranded in a sheet move once, after the last level: moved
 	 * earlier, insertion and relaxing take them back into it */
-	/* every surface run holds its points in the outline found above: the
-	 * levels' samples are the completed surface, whose normals face every way */
+	/* every surface run holds its points in the outline found above and
+	 * faces the scanner's side found there: the levels' samples are the
+	 * completed surface, whose normals face every way */
 	dp_params later = *params;
 	memcpy(later.surface.silhouette_axis, axis, sizeof axis);
 	later.surface.silhouette = params->surface.silhouette && (axis[0] != 0.0 || axis[1] != 0.0 || axis[2] != 0.0);

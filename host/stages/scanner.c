@@ -11,7 +11,8 @@ int dp_scanner_side(size_t n, const float *nx, const float *ny, const float *nz,
 		against += d < -cos_min;
 	}
 	size_t fewer = along < against ? along : against;
-	if (along + against == 0 || (double)fewer > DP_SCANNER_MINORITY * (double)(along + against))
+	if (along + against < DP_SCANNER_MIN_NORMALS ||
+	    (double)fewer > DP_SCANNER_MINORITY * (double)(along + against))
 		return 0;
 	return along >= against ? 1 : -1;
 }

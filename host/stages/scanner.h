@@ -4,7 +4,7 @@
  * orientation has no such knowledge: spread over a one-sided scan it
  * propagates across neighbourhoods, and in the surface stage a point that
  * input holds keeps whatever sign its normal had. Measured on the Stanford
- * bunny's front view (bun000, WLOP seeds 1-6): 3-37 of 4000 surface points
+ * bunny's front view (bun000, WLOP seeds 1-6): 3-37 of its 4026 surface points
  * lying on the scan had normals facing away from it, up to 0.9 of the way
  * along the view axis, a third of all the flips of some seeds.
  *
@@ -30,10 +30,15 @@
  * samples), which turned true normals at 0.1. */
 #define DP_SCANNER_MINORITY 0.01
 
+/* Fewer normals pointing clearly along the axis than this say nothing (a
+ * found axis needs DP_SILHOUETTE_MIN_NORMALS samples; a given one may come
+ * with a handful). */
+#define DP_SCANNER_MIN_NORMALS 100
+
 /* The side of the unit `axis` the scan was taken from: +1 or -1 when the n
- * unit normals with |n·axis| > cos_min point that way but for at most
- * DP_SCANNER_MINORITY of them, 0 when more point the other way or none
- * point along the axis that clearly. Reads only. */
+ * unit normals with |n·axis| > cos_min, at least DP_SCANNER_MIN_NORMALS of
+ * them, point that way but for at most DP_SCANNER_MINORITY of them; else 0.
+ * Reads only. */
 int dp_scanner_side(size_t n, const float *nx, const float *ny, const float *nz, const float axis[3],
 		    double cos_min);
 
