@@ -1,6 +1,6 @@
 /* Facing the scanner (host/stages/scanner.h, dp_surface_params.face_scanner):
  * a scan is one-sided when its clearly axial normals point one way along the
- * view axis; the surface stage turns held points' normals that face away
+ * view axis, or nearly so with its samples in one layer along it; the surface stage turns held points' normals that face away
  * from the scanner, and leaves them without it; the pipeline finds the side
  * of a one-view scan and none for two opposite views, and takes a side
  * given. */
@@ -30,31 +30,93 @@ static void negate_every(size_t n, size_t k, float *nx, float *ny, float *nz)
 		nx[i] = -nx[i], ny[i] = -ny[i], nz[i] = -nz[i];
 }
 
+/* n points 1 apart on a square grid across the unit `axis`, at depth 0,
+ * or, with `layers` 2, every other one at depth `apart` instead. */
+static void grid_across(size_t n, const float axis[3], int layers, double apart, float *x, float *y, float *z)
+{
+	float u[3], v[3];
+	dp_silhouette_across(axis, u, v);
+	size_t side = (size_t)ceil(sqrt((double)n));
+	for (size_t i = 0; i < n; i++) {
+		double a = (double)(i % side), b = (double)(i / side), d = layers == 2 && i % 2 ? apart : 0.0;
+		x[i] = (float)(a * u[0] + b * v[0] + d * axis[0]);
+		y[i] = (float)(a * u[1] + b * v[1] + d * axis[1]);
+		z[i] = (float)(a * u[2] + b * v[2] + d * axis[2]);
+	}
+}
+
+/* Points 1 apart: one layer across the axis, one steep layer (80° to it,
+ * sampled 1 apart along itself), and two layers 10 apart. */
+static void test_layered(void **state)
+{
+	(void)state;
+	static float x[NORMALS], y[NORMALS], z[NORMALS];
+	const float axis[3] = {0.0f, 0.0f, 1.0f};
+	double layered = -1.0;
+	dp_error err = {0};
+	grid_across(NORMALS, axis, 1, 0.0, x, y, z);
+	assert_int_equal(dp_scanner_layered(NORMALS, x, y, z, axis, 1.0, &layered, &err), DP_OK);
+	assert_true(layered == 0.0);
+	/* the steep one: rows 1 apart along the slope, sin 80° deep each */
+	for (size_t i = 0; i < NORMALS; i++) {
+		double b = (double)(i / 64);
+		x[i] = (float)(i % 64);
+		y[i] = (float)(b * cos(80.0 * M_PI / 180.0));
+		z[i] = (float)(b * sin(80.0 * M_PI / 180.0));
+	}
+	assert_int_equal(dp_scanner_layered(NORMALS, x, y, z, axis, 1.0, &layered, &err), DP_OK);
+	assert_true(layered == 0.0);
+	grid_across(NORMALS, axis, 2, 10.0, x, y, z);
+	assert_int_equal(dp_scanner_layered(NORMALS, x, y, z, axis, 1.0, &layered, &err), DP_OK);
+	printf("two layers: %.3f of the points where a second one is\n", layered);
+	assert_true(layered > 0.95);
+}
+
 /* Normals within 75° of the eye face it: that side, and the other side
  * along the opposite axis. One in 200 of them negated (orientation's slips)
- * leave it one-sided, one in 50 two-sided; a whole sphere of normals is
- * two-sided, and normals all across the axis say nothing. */
+ * leave it one-sided whatever the samples' layers; one in 50 only in one
+ * layer, one in 3 never. A whole sphere of normals is two-sided, and
+ * normals all across the axis say nothing. */
 static void test_side(void **state)
 {
 	(void)state;
-	float nx[NORMALS], ny[NORMALS], nz[NORMALS];
+	static float x[NORMALS], y[NORMALS], z[NORMALS], nx[NORMALS], ny[NORMALS], nz[NORMALS];
 	const double eye[3] = {0.6, -0.3, 0.74};
 	double len = sqrt(eye[0] * eye[0] + eye[1] * eye[1] + eye[2] * eye[2]);
 	const float axis[3] = {(float)(eye[0] / len), (float)(eye[1] / len), (float)(eye[2] / len)};
 	const float back[3] = {-axis[0], -axis[1], -axis[2]};
+	dp_error err = {0};
+	int one = 0, two = 0;
+#define SIDE(out) \
+	assert_int_equal(dp_scanner_side(NORMALS, x, y, z, nx, ny, nz, axis, 0.5, 1.0, &out, &err), DP_OK)
 	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
-	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 1);
-	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, back, 0.5), -1);
+	grid_across(NORMALS, axis, 2, 10.0, x, y, z);
+	SIDE(two);
+	assert_int_equal(two, 1);
+	assert_int_equal(dp_scanner_side(NORMALS, x, y, z, nx, ny, nz, back, 0.5, 1.0, &two, &err), DP_OK);
+	assert_int_equal(two, -1);
 	negate_every(NORMALS, 200, nx, ny, nz);
-	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 1);
+	SIDE(two);
+	assert_int_equal(two, 1);
 	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
 	negate_every(NORMALS, 50, nx, ny, nz);
-	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 0);
+	SIDE(two);
+	grid_across(NORMALS, axis, 1, 0.0, x, y, z);
+	SIDE(one);
+	assert_int_equal(two, 0);
+	assert_int_equal(one, 1);
+	tk_normals_in_cap(NORMALS, eye, 75.0, nx, ny, nz);
+	negate_every(NORMALS, 3, nx, ny, nz);
+	SIDE(one);
+	assert_int_equal(one, 0);
 	tk_normals_in_cap(NORMALS, eye, 180.0, nx, ny, nz);
-	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 0);
+	SIDE(one);
+	assert_int_equal(one, 0);
 	for (size_t i = 0; i < NORMALS; i++)
 		nx[i] = axis[1], ny[i] = -axis[0], nz[i] = 0.0f;
-	assert_int_equal(dp_scanner_side(NORMALS, nx, ny, nz, axis, 0.5), 0);
+	SIDE(one);
+	assert_int_equal(one, 0);
+#undef SIDE
 }
 
 /* Of normals within 75° of the eye with every 20th negated, exactly the
@@ -107,7 +169,10 @@ static void test_surface_turns_held(void **state)
 	double fraction;
 	dp_silhouette_axis(s->n, s->nx, s->ny, s->nz, p.surface.silhouette_grazing, &found, axis, &fraction);
 	assert_true(found);
-	int side = dp_scanner_side(s->n, s->nx, s->ny, s->nz, axis, p.surface.face_scanner_cos);
+	int side = 0;
+	if (dp_scanner_side(s->n, s->x, s->y, s->z, s->nx, s->ny, s->nz, axis, p.surface.face_scanner_cos, res.r, &side,
+			    &err) != DP_OK)
+		fail_msg("%s", err.message);
 	assert_int_not_equal(side, 0);
 	const float toward[3] = {(float)side * axis[0], (float)side * axis[1], (float)side * axis[2]};
 	/* a patch, as orientation gets a region wrong: the samples within 4 r
@@ -312,6 +377,7 @@ static void test_surface_side_needs_axis(void **state)
 int main(void)
 {
 	const struct CMUnitTest tests[] = {
+		cmocka_unit_test(test_layered),
 		cmocka_unit_test(test_side),
 		cmocka_unit_test(test_face),
 		cmocka_unit_test(test_surface_turns_held),

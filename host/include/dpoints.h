@@ -804,7 +804,8 @@ typedef struct dp_surface_params {
 	int face_scanner;         /* 1: where the scan was taken from one side of the view axis (given or found
 	                             as for silhouette, whether or not that is on): of the samples' normals that
 	                             point within acos(face_scanner_cos) of the axis either way, no more than one
-	                             in a hundred point the other way. A range scanner records only what faces it, so
+	                             in a hundred point the other way, or a quarter where the samples form one
+	                             layer along the axis, as a single range image does. A range scanner records only what faces it, so
 	                             the PCA normal of a point input holds takes the sign that faces the scanner
 	                             wherever it points that clearly along the axis (host/stages/scanner.h);
 	                             dp_consolidate turns the WLOP samples' normals the same way before sinking.

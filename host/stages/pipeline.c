@@ -235,29 +235,33 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
  * (scanner.h; 0: both or unknown), whose samples' normals then face it.
  * Every surface run gets both: the levels' samples are the completed
  * surface, whose normals face every way. */
-static void view_of_scan(const dp_surface_params *p, dp_result *res, double axis_out[3], int *side)
+static dp_status view_of_scan(const dp_surface_params *p, dp_result *res, double axis_out[3], int *side,
+			      dp_error *err)
 {
 	axis_out[0] = axis_out[1] = axis_out[2] = 0.0;
 	*side = 0;
 	if (!p->silhouette && !p->face_scanner)
-		return;
+		return DP_OK;
 	float axis[3];
 	int found = 0;
 	dp_cloud *w = &res->wlop;
 	dp_silhouette_pick(p->silhouette_axis, w->n, w->nx, w->ny, w->nz, p->silhouette_grazing, &found, axis,
 			   &res->surface_stats.silhouette_grazing);
 	if (!found)
-		return;
+		return DP_OK;
 	for (int c = 0; c < 3; c++)
 		axis_out[c] = axis[c];
 	if (!p->face_scanner)
-		return;
+		return DP_OK;
 	*side = p->scanner_side;
+	dp_status st = DP_OK;
 	if (!*side)
-		*side = dp_scanner_side(w->n, w->nx, w->ny, w->nz, axis, p->face_scanner_cos);
+		st = dp_scanner_side(w->n, w->x, w->y, w->z, w->nx, w->ny, w->nz, axis, p->face_scanner_cos, res->r, side,
+				     err);
 	float toward[3] = {(float)*side * axis[0], (float)*side * axis[1], (float)*side * axis[2]};
 	if (*side)
 		res->samples_turned = dp_scanner_face(w->n, w->nx, w->ny, w->nz, toward, p->face_scanner_cos);
+	return st;
 }
 
 /* Each anchor sunk out of the scan's own outline seen along `axis` (all
@@ -376,7 +380,10 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 
 	double axis[3];
 	int side;
-	view_of_scan(&params->surface, res, axis, &side);
+	if ((st = view_of_scan(&params->surface, res, axis, &side, err)) != DP_OK) {
+		in_stage(err, st, "view axis");
+		goto fail;
+	}
 	if (!(res->settled_by = dp_alloc_array(res->wlop.n, 1))) {
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", res->wlop.n);
 		goto fail;

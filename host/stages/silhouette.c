@@ -120,7 +120,7 @@ void dp_silhouette_free(dp_silhouette *s)
 	memset(s, 0, sizeof *s);
 }
 
-static void across(const float axis[3], float u[3], float v[3])
+void dp_silhouette_across(const float axis[3], float u[3], float v[3])
 {
 	/* u: the axis crossed with the coordinate axis least along it */
 	float e[3] = {0.0f, 0.0f, 0.0f};
@@ -251,7 +251,7 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g, axis of length %g",
 			       input->n, cell, margin, len);
 	dp_silhouette_free(s);
-	across(axis, s->u, s->v);
+	dp_silhouette_across(axis, s->u, s->v);
 	double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
 	for (size_t i = 0; i < input->n; i++) {
 		double pu = input->x[i] * s->u[0] + input->y[i] * s->u[1] + input->z[i] * s->u[2];

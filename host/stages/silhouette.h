@@ -43,6 +43,9 @@ typedef struct dp_silhouette {
 #define DP_SILHOUETTE_MIN_NORMALS 1000
 void dp_silhouette_axis(size_t n, const float *nx, const float *ny, const float *nz, double grazing, int *found,
 			float axis[3], double *fraction);
+/* Two unit directions u, v across the unit `axis`, u × v = axis. */
+void dp_silhouette_across(const float axis[3], float u[3], float v[3]);
+
 /* `given` scaled to unit length into axis: 1, or 0 when it is all zero or
  * not finite. */
 int dp_silhouette_unit(const double given[3], float axis[3]);

@@ -679,8 +679,11 @@ static dp_status view(work *w, const dp_cloud *input, size_t n, double r, const 
 	if (!found)
 		return DP_OK;
 	int side = p->scanner_side;
-	if (p->face_scanner && !side)
-		side = dp_scanner_side(n, w->a[A_NX], w->a[A_NY], w->a[A_NZ], axis, p->face_scanner_cos);
+	dp_status s;
+	if (p->face_scanner && !side &&
+	    (s = dp_scanner_side(n, w->a[A_PX], w->a[A_PY], w->a[A_PZ], w->a[A_NX], w->a[A_NY], w->a[A_NZ], axis,
+				 p->face_scanner_cos, r, &side, err)) != DP_OK)
+		return s;
 	if (p->face_scanner && side) {
 		w->scanner_cos = (float)p->face_scanner_cos;
 		for (int c = 0; c < 3; c++)
