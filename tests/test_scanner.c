@@ -1,9 +1,9 @@
 /* Facing the scanner (host/stages/scanner.h, dp_surface_params.face_scanner):
  * a scan is one-sided when its clearly axial normals point one way along the
- * view axis, or nearly so with its samples in one layer along it; the surface stage turns held points' normals that face away
- * from the scanner, and leaves them without it; the pipeline finds the side
- * of a one-view scan and none for two opposite views, and takes a side
- * given. */
+ * view axis, or nearly so with its samples in one layer along it; the
+ * surface stage turns held points' normals that face away from the scanner,
+ * and leaves them without it; the pipeline finds the side of a one-view scan
+ * and none for two opposite views, and takes a side given. */
 #include "testkit.h"
 
 #include "core/common.h"

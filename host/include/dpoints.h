@@ -767,10 +767,10 @@ typedef struct dp_surface_params {
 	int orient_by_dpoint;     /* 1: the PCA normal of a point no input holds (input support Σθ < 1: no input
 	                             point within about 1 r) takes the sign of the dpoint orientation
 	                             m = (p - q)/|p - q|, outward by construction; a held point's takes the sign of
-	                             its old normal, the data's orientation (or the scanner's: face_scanner), which is right where an inner end sank
-	                             out of a thin part (measured over six WLOP seeds: two-view bunny 1.5% -> 1.0%
-	                             flipped, one-view 2.55% -> 2.42%, the chair the same); 0: the old normal's sign
-	                             everywhere; default 1 */
+	                             its old normal, the data's orientation (or the scanner's: face_scanner), which
+	                             is right where an inner end sank out of a thin part (measured over six WLOP
+	                             seeds: two-view bunny 1.5% -> 1.0% flipped, one-view 2.55% -> 2.42%, the chair
+	                             the same); 0: the old normal's sign everywhere; default 1 */
 	int window;               /* iterations per compared block, >= 1; default 10 */
 	double min_drop;          /* relative fall of the mean move that keeps it going, in [0, 1); default 0.05 */
 	double min_growth;        /* relative growth of the spacing, or fall of its variation, that keeps it
@@ -805,11 +805,11 @@ typedef struct dp_surface_params {
 	                             as for silhouette, whether or not that is on): of the samples' normals that
 	                             point within acos(face_scanner_cos) of the axis either way, no more than one
 	                             in a hundred point the other way, or a quarter where the samples form one
-	                             layer along the axis, as a single range image does. A range scanner records only what faces it, so
-	                             the PCA normal of a point input holds takes the sign that faces the scanner
-	                             wherever it points that clearly along the axis (host/stages/scanner.h);
-	                             dp_consolidate turns the WLOP samples' normals the same way before sinking.
-	                             Default 1 */
+	                             layer along the axis, as a single range image does. A range scanner records
+	                             only what faces it, so the PCA normal of a point input holds takes the sign
+	                             that faces the scanner wherever it points that clearly along the axis
+	                             (host/stages/scanner.h); dp_consolidate turns the WLOP samples' normals the
+	                             same way before sinking. Default 1 */
 	double face_scanner_cos;  /* in [0, 1); default 0.5: views up to 30° off the axis leave every true normal
 	                             alone */
 	int scanner_side;         /* +1 or -1: the scan was taken from that side of silhouette_axis, which must
