@@ -9,6 +9,7 @@
 #include "core/common.h"
 #include "stages/scanner.h"
 #include "stages/silhouette.h"
+#include "tools/mesh.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -144,43 +145,116 @@ static void test_face(void **state)
 	assert_int_equal(left, grazing);
 }
 
-/* The surface stage on a one-view scan of the built-in torus, from its own
- * consolidation's samples and inner ends, the normals of a patch that faces
- * the scanner negated. Input holds those points, so without the rule many
- * keep the negated sign (a held point's normal keeps its sign: 20 of 54
- * here); with it every one faces the scanner again. */
-static void test_surface_turns_held(void **state)
+/* The built-in torus seen from `views` eyes on the ring at `elevation`
+ * degrees (at 0 two of them face each other along x), `distance` diagonals
+ * from its centre, res x res rays each; the first eye's position into eye
+ * unless it is NULL. */
+static void scan_torus_from(int views, double elevation, double distance, int res, dp_cloud *scan, double eye[3])
 {
-	(void)state;
 	dp_error err = {0};
-	dp_cloud scan = {0};
-	tk_scan_shape("torus", 1, 96, 0.002, 1, NULL, NULL, &scan);
+	dp_shape shape;
+	dp_cloud mesh = {0};
+	dp_scan_params sp;
+	dp_scan_params_default(&sp);
+	sp.views = views;
+	sp.res = res;
+	sp.noise = 0.002;
+	sp.normals = 0;
+	sp.elevation_deg = elevation;
+	sp.distance = distance;
+	if (dp_shape_default("torus", &shape, &err) != DP_OK || dp_shape_mesh(&shape, &mesh, &err) != DP_OK ||
+	    dp_scan(&mesh, &sp, scan, NULL, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	if (eye) {
+		/* as host/tools/scan.c places it: azimuth 0, z up */
+		double lo[3], hi[3], el = elevation * M_PI / 180.0, far = dp_mesh_diagonal(&mesh) * distance;
+		dp_mesh_bbox(&mesh, lo, hi);
+		for (int c = 0; c < 3; c++)
+			eye[c] = 0.5 * (lo[c] + hi[c]);
+		eye[0] += far * cos(el);
+		eye[2] += far * sin(el);
+	}
+	dp_cloud_free(&mesh);
+}
+
+static void scan_torus(int views, dp_cloud *scan)
+{
+	scan_torus_from(views, 0.0, 2.0, 96, scan, NULL);
+}
+
+/* Runs the pipeline on `scan` with 1500 deep points from 1000 coarse ones. */
+static void consolidate(const dp_cloud *scan, dp_params *p, dp_result *res)
+{
+	dp_error err = {0};
+	p->wlop.samples = 1500;
+	p->refine.coarse_samples = 1000;
+	if (dp_consolidate(tk_cl_context(), scan, p, res, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	const double *t = res->surface_stats.scanner, *a = res->surface_stats.silhouette_axis;
+	printf("axis (%.3f %.3f %.3f), scanner (%.3f %.3f %.3f), %zu samples and %zu held normals turned\n", a[0], a[1],
+	       a[2], t[0], t[1], t[2], res->samples_turned, res->surface_stats.scanner_turned);
+	tk_assert_rows_in_step(res, 1500);
+}
+
+/* The direction from sample i towards the scanner: `toward`, or towards
+ * `eye` when that is not NULL. */
+static void towards(const dp_cloud *s, size_t i, const float toward[3], const double *eye, float t[3])
+{
+	if (!eye) {
+		memcpy(t, toward, 3 * sizeof(float));
+		return;
+	}
+	double d[3] = {eye[0] - s->x[i], eye[1] - s->y[i], eye[2] - s->z[i]};
+	double len = sqrt(d[0] * d[0] + d[1] * d[1] + d[2] * d[2]);
+	for (int c = 0; c < 3; c++)
+		t[c] = (float)(d[c] / len);
+}
+
+/* The surface stage on a one-view scan, from its own consolidation's
+ * samples and inner ends, the normals of a patch that faces the scanner
+ * negated. Input holds those points, so without the rule many keep the
+ * negated sign (a held point's normal keeps its sign); with it every one
+ * faces the scanner again: along the axis found, or towards `eye` (per
+ * point) when that is not NULL. */
+static void turn_held_patch(const dp_cloud *scan, const double *eye)
+{
+	dp_error err = {0};
 	dp_params p;
 	dp_params_default(&p);
 	p.wlop.samples = 1500;
 	p.refine.coarse_samples = 0;
 	p.surface.face_scanner = 0;
+	if (eye) {
+		p.normals.use_viewpoint = 1;
+		memcpy(p.normals.viewpoint, eye, sizeof p.normals.viewpoint);
+	}
 	dp_result res = {0};
-	if (dp_consolidate(tk_cl_context(), &scan, &p, &res, &err) != DP_OK)
+	if (dp_consolidate(tk_cl_context(), scan, &p, &res, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	dp_cloud *s = &res.wlop;
-	float axis[3];
-	int found = 0;
-	double fraction;
-	dp_silhouette_axis(s->n, s->nx, s->ny, s->nz, p.surface.silhouette_grazing, &found, axis, &fraction);
-	assert_true(found);
+	float axis[3] = {0.0f, 0.0f, 0.0f}, toward[3] = {0.0f, 0.0f, 0.0f}, t[3], tc[3];
 	int side = 0;
-	if (dp_scanner_side(s->n, s->x, s->y, s->z, s->nx, s->ny, s->nz, axis, p.surface.face_scanner_cos, res.r, &side,
-			    &err) != DP_OK)
-		fail_msg("%s", err.message);
-	assert_int_not_equal(side, 0);
-	const float toward[3] = {(float)side * axis[0], (float)side * axis[1], (float)side * axis[2]};
+	if (!eye) {
+		int found = 0;
+		double fraction;
+		dp_silhouette_axis(s->n, s->nx, s->ny, s->nz, p.surface.silhouette_grazing, &found, axis, &fraction);
+		assert_true(found);
+		if (dp_scanner_side(s->n, s->x, s->y, s->z, s->nx, s->ny, s->nz, axis, p.surface.face_scanner_cos, res.r,
+				    &side, &err) != DP_OK)
+			fail_msg("%s", err.message);
+		assert_int_not_equal(side, 0);
+		for (int c = 0; c < 3; c++)
+			toward[c] = (float)side * axis[c];
+	}
 	/* a patch, as orientation gets a region wrong: the samples within 4 r
 	 * of the one that faces the scanner most squarely */
 	size_t centre = 0;
-	for (size_t i = 1; i < s->n; i++)
-		if (dot(s->nx, s->ny, s->nz, i, toward) > dot(s->nx, s->ny, s->nz, centre, toward))
+	for (size_t i = 1; i < s->n; i++) {
+		towards(s, i, toward, eye, t);
+		towards(s, centre, toward, eye, tc);
+		if (dot(s->nx, s->ny, s->nz, i, t) > dot(s->nx, s->ny, s->nz, centre, tc))
 			centre = i;
+	}
 	unsigned char *negated = calloc(s->n, 1);
 	assert_non_null(negated);
 	size_t count = 0;
@@ -199,11 +273,16 @@ static void test_surface_turns_held(void **state)
 		dp_surface_params sp;
 		dp_surface_params_default(&sp);
 		sp.face_scanner = on;
-		/* as dp_consolidate passes them on: the patch alone makes the
-		 * samples two-sided (DP_SCANNER_MINORITY) */
-		sp.scanner_side = side;
-		for (int c = 0; c < 3; c++)
-			sp.silhouette_axis[c] = axis[c];
+		if (eye) {
+			sp.use_viewpoint = 1;
+			memcpy(sp.viewpoint, eye, sizeof sp.viewpoint);
+		} else {
+			/* as dp_consolidate passes them on: the patch alone makes
+			 * the samples two-sided (DP_SCANNER_MINORITY) */
+			sp.scanner_side = side;
+			for (int c = 0; c < 3; c++)
+				sp.silhouette_axis[c] = axis[c];
+		}
 		dp_cloud skeleton = {0}, out = {0};
 		dp_surface_stats st = {0};
 		if (dp_cloud_alloc(&skeleton, res.skeleton.n, 0, &err) != DP_OK)
@@ -211,14 +290,17 @@ static void test_surface_turns_held(void **state)
 		memcpy(skeleton.x, res.skeleton.x, s->n * sizeof(float));
 		memcpy(skeleton.y, res.skeleton.y, s->n * sizeof(float));
 		memcpy(skeleton.z, res.skeleton.z, s->n * sizeof(float));
-		if (dp_surface(tk_cl_context(), &scan, s, &skeleton, NULL, res.r, &sp, &out, NULL, &st, &err) != DP_OK)
+		if (dp_surface(tk_cl_context(), scan, s, &skeleton, NULL, res.r, &sp, &out, NULL, &st, &err) != DP_OK)
 			fail_msg("%s", err.message);
-		for (size_t i = 0; i < s->n; i++)
-			away[on] += negated[i] && dot(out.nx, out.ny, out.nz, i, toward) < 0.0;
+		for (size_t i = 0; i < s->n; i++) {
+			towards(&out, i, toward, eye, t);
+			away[on] += negated[i] && dot(out.nx, out.ny, out.nz, i, t) < 0.0;
+		}
+		double d = st.scanner[0] * toward[0] + st.scanner[1] * toward[1] + st.scanner[2] * toward[2];
 		if (on) {
 			turned = st.scanner_turned;
-			double d = st.scanner[0] * toward[0] + st.scanner[1] * toward[1] + st.scanner[2] * toward[2];
-			assert_true(d > 0.999);
+			/* with an eye there is no one direction to report */
+			assert_true(eye ? st.scanner[0] == 0.0 && st.scanner[1] == 0.0 && st.scanner[2] == 0.0 : d > 0.999);
 		} else {
 			assert_true(st.scanner[0] == 0.0 && st.scanner[1] == 0.0 && st.scanner[2] == 0.0);
 			assert_int_equal(st.scanner_turned, 0);
@@ -226,50 +308,67 @@ static void test_surface_turns_held(void **state)
 		dp_cloud_free(&skeleton);
 		dp_cloud_free(&out);
 	}
-	printf("torus one view: %zu of %zu held normals negated; facing away at the end: %zu without the rule, %zu "
+	printf("torus one view%s: %zu of %zu held normals negated; facing away at the end: %zu without the rule, %zu "
 	       "with it (%zu turns)\n",
-	       count, s->n, away[0], away[1], turned);
+	       eye ? " from a near eye" : "", count, s->n, away[0], away[1], turned);
 	assert_true(count >= 30);
 	assert_true(away[0] * 4 >= count);
 	assert_int_equal(away[1], 0);
 	assert_true(turned >= count);
 	free(negated);
 	dp_result_free(&res);
+}
+
+/* Along the axis found (20 of 54 stay negated without the rule when
+ * measured). */
+static void test_surface_turns_held(void **state)
+{
+	(void)state;
+	dp_cloud scan = {0};
+	scan_torus_from(1, 20.0, 2.0, 96, &scan, NULL);
+	turn_held_patch(&scan, NULL);
 	dp_cloud_free(&scan);
 }
 
-/* The built-in torus seen from `views` eyes on the ring at elevation 0:
- * two of them face each other along x. */
-static void scan_torus(int views, dp_cloud *scan)
+/* A perspective scanner 0.6 diagonals from the torus's centre, its eye
+ * given: each held point faces the eye itself. */
+static void test_surface_faces_eye(void **state)
 {
-	dp_error err = {0};
-	dp_shape shape;
-	dp_cloud mesh = {0};
-	dp_scan_params sp;
-	dp_scan_params_default(&sp);
-	sp.views = views;
-	sp.res = 96;
-	sp.noise = 0.002;
-	sp.normals = 0;
-	sp.elevation_deg = 0.0;
-	if (dp_shape_default("torus", &shape, &err) != DP_OK || dp_shape_mesh(&shape, &mesh, &err) != DP_OK ||
-	    dp_scan(&mesh, &sp, scan, NULL, &err) != DP_OK)
-		fail_msg("%s", err.message);
-	dp_cloud_free(&mesh);
-}
-
-/* Runs the pipeline on `scan` with 1500 deep points from 1000 coarse ones. */
-static void consolidate(const dp_cloud *scan, dp_params *p, dp_result *res)
-{
-	dp_error err = {0};
-	p->wlop.samples = 1500;
-	p->refine.coarse_samples = 1000;
-	if (dp_consolidate(tk_cl_context(), scan, p, res, &err) != DP_OK)
-		fail_msg("%s", err.message);
-	const double *t = res->surface_stats.scanner, *a = res->surface_stats.silhouette_axis;
-	printf("axis (%.3f %.3f %.3f), scanner (%.3f %.3f %.3f), %zu samples and %zu held normals turned\n", a[0], a[1],
-	       a[2], t[0], t[1], t[2], res->samples_turned, res->surface_stats.scanner_turned);
-	tk_assert_rows_in_step(res, 1500);
+	(void)state;
+	dp_cloud scan = {0};
+	double eye[3];
+	scan_torus_from(1, 20.0, 0.6, 160, &scan, eye);
+	turn_held_patch(&scan, eye);
+	/* the pipeline takes the eye from the normals' viewpoint and faces it
+	 * instead of the side of the axis it finds (so reports no direction);
+	 * every point the input holds ends facing it where it points clearly to
+	 * or from it */
+	dp_params p;
+	dp_params_default(&p);
+	p.normals.use_viewpoint = 1;
+	memcpy(p.normals.viewpoint, eye, sizeof p.normals.viewpoint);
+	dp_result res = {0};
+	consolidate(&scan, &p, &res);
+	const double *t = res.surface_stats.scanner, *a = res.surface_stats.silhouette_axis;
+	assert_true(a[0] != 0.0 || a[1] != 0.0 || a[2] != 0.0);
+	assert_true(t[0] == 0.0 && t[1] == 0.0 && t[2] == 0.0);
+	size_t held = 0, away = 0;
+	for (size_t i = 0; i < res.surface.n; i++) {
+		if (res.eta[i] - 1.0f < 1.0f)
+			continue;
+		float to[3];
+		towards(&res.surface, i, NULL, eye, to);
+		double d = dot(res.surface.nx, res.surface.ny, res.surface.nz, i, to);
+		held++;
+		away += d < -p.surface.face_scanner_cos;
+	}
+	printf("pipeline with the eye: %zu held points, %zu facing away from it, %zu turns, axis (%.3f %.3f %.3f)\n",
+	       held, away, res.surface_stats.scanner_turned, res.surface_stats.silhouette_axis[0],
+	       res.surface_stats.silhouette_axis[1], res.surface_stats.silhouette_axis[2]);
+	assert_true(held > 100);
+	assert_int_equal(away, 0);
+	dp_result_free(&res);
+	dp_cloud_free(&scan);
 }
 
 /* Every WLOP sample's normal within acos(-cos_min) of `toward`. */
@@ -381,6 +480,7 @@ int main(void)
 		cmocka_unit_test(test_side),
 		cmocka_unit_test(test_face),
 		cmocka_unit_test(test_surface_turns_held),
+		cmocka_unit_test(test_surface_faces_eye),
 		cmocka_unit_test(test_pipeline_side),
 		cmocka_unit_test(test_surface_side_needs_axis),
 	};

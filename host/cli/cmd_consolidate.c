@@ -132,7 +132,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--seed", CLI_U64, &p->wlop.seed, "seed of the initial sample choice", NULL, NULL},
 		{"--normal-k", CLI_INT, &p->normals.k, "PCA neighbours per normal", NULL, NULL},
 		{"--graph-k", CLI_INT, &p->normals.k_graph, "neighbours in the orientation graph", NULL, NULL},
-		{"--viewpoint", CLI_VEC3, p->normals.viewpoint, "orient normals towards this scanner position", NULL,
+		{"--viewpoint", CLI_VEC3, p->normals.viewpoint,
+		 "the scanner's position: normals are oriented towards it instead of by the MST, and the surface's "
+		 "points on the scan face it (README \"Facing the scanner\")", NULL,
 		 &p->normals.use_viewpoint},
 		{"--omega", CLI_DOUBLE, &p->sink.omega_deg, "settle angle omega, degrees (paper: 45)", NULL, NULL},
 		{"--sigma-p", CLI_DOUBLE, &sigma_p, "static neighbourhood sigma_p, in r, of sinking and surface", NULL,

@@ -816,6 +816,12 @@ typedef struct dp_surface_params {
 	                             then be given, whatever the normals say; 0 (default): read it off the samples'
 	                             normals (dp_consolidate reads it off the WLOP samples once and passes it on to
 	                             the levels, whose samples are the completed surface) */
+	int use_viewpoint;        /* 1: the scan was taken from `viewpoint`, a perspective scanner's eye: with
+	                             face_scanner a held point's PCA normal faces that point instead (where it
+	                             points within acos(face_scanner_cos) of straight towards or away from it), with
+	                             or without an axis. dp_consolidate takes dp_normal_params' viewpoint when this
+	                             is 0 and that has one. Default 0 */
+	double viewpoint[3];      /* the scanner's eye, in input coordinates */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);

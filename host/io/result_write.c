@@ -113,6 +113,11 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_bool(w, "face_scanner", p->face_scanner);
 	dp_json_num(w, "face_scanner_cos", p->face_scanner_cos);
 	dp_json_int(w, "scanner_side", p->scanner_side);
+	dp_json_bool(w, "use_viewpoint", p->use_viewpoint);
+	dp_json_array(w, "viewpoint");
+	for (int c = 0; c < 3; c++)
+		dp_json_num(w, NULL, p->viewpoint[c]);
+	dp_json_end_array(w);
 	dp_json_end_object(w);
 }
 

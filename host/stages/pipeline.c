@@ -59,6 +59,8 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 		return dp_fail(err, DP_ERR_ARG, "face-scanner cosine %g is not in [0, 1)", s->face_scanner_cos);
 	if (s->scanner_side < -1 || s->scanner_side > 1)
 		return dp_fail(err, DP_ERR_ARG, "scanner side %d is not -1, 0 or 1", s->scanner_side);
+	if (s->use_viewpoint && !(isfinite(s->viewpoint[0]) && isfinite(s->viewpoint[1]) && isfinite(s->viewpoint[2])))
+		return dp_fail(err, DP_ERR_ARG, "the scanner's viewpoint is not finite");
 	if (s->scanner_side && g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0)
 		return dp_fail(err, DP_ERR_ARG, "scanner side %d needs the view axis it lies along", s->scanner_side);
 	if ((g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) && !dp_silhouette_unit(g, unit))
@@ -240,18 +242,22 @@ static dp_status view_of_scan(const dp_surface_params *p, dp_result *res, double
 {
 	axis_out[0] = axis_out[1] = axis_out[2] = 0.0;
 	*side = 0;
+	dp_cloud *w = &res->wlop;
+	/* a scanner's eye given: the samples face it, and no side is needed */
+	if (p->face_scanner && p->use_viewpoint)
+		res->samples_turned = dp_scanner_face_eye(w->n, w->x, w->y, w->z, w->nx, w->ny, w->nz, p->viewpoint,
+							  p->face_scanner_cos);
 	if (!p->silhouette && !p->face_scanner)
 		return DP_OK;
 	float axis[3];
 	int found = 0;
-	dp_cloud *w = &res->wlop;
 	dp_silhouette_pick(p->silhouette_axis, w->n, w->nx, w->ny, w->nz, p->silhouette_grazing, &found, axis,
 			   &res->surface_stats.silhouette_grazing);
 	if (!found)
 		return DP_OK;
 	for (int c = 0; c < 3; c++)
 		axis_out[c] = axis[c];
-	if (!p->face_scanner)
+	if (!p->face_scanner || p->use_viewpoint)
 		return DP_OK;
 	*side = p->scanner_side;
 	dp_status st = DP_OK;
@@ -378,9 +384,15 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		goto fail;
 	}
 
+	/* the scanner's eye, the surface's own or else the normals' */
+	dp_surface_params seen = params->surface;
+	if (!seen.use_viewpoint && params->normals.use_viewpoint) {
+		seen.use_viewpoint = 1;
+		memcpy(seen.viewpoint, params->normals.viewpoint, sizeof seen.viewpoint);
+	}
 	double axis[3];
 	int side;
-	if ((st = view_of_scan(&params->surface, res, axis, &side, err)) != DP_OK) {
+	if ((st = view_of_scan(&seen, res, axis, &side, err)) != DP_OK) {
 		in_stage(err, st, "view axis");
 		goto fail;
 	}
@@ -424,9 +436,10 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	 * faces the scanner's side found there: the levels' samples are the
 	 * completed surface, whose normals face every way */
 	dp_params later = *params;
+	later.surface = seen;
 	memcpy(later.surface.silhouette_axis, axis, sizeof axis);
 	later.surface.silhouette = params->surface.silhouette && (axis[0] != 0.0 || axis[1] != 0.0 || axis[2] != 0.0);
-	later.surface.face_scanner = params->surface.face_scanner && side != 0;
+	later.surface.face_scanner = params->surface.face_scanner && (side != 0 || seen.use_viewpoint);
 	later.surface.scanner_side = side;
 	dp_surface_params coarse_params = later.surface;
 	coarse_params.sheet_points = params->surface.sheet_points && levels == 1 && params->refine.even_rounds == 0;

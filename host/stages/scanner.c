@@ -78,6 +78,23 @@ dp_status dp_scanner_side(size_t n, const float *x, const float *y, const float 
 	return st;
 }
 
+size_t dp_scanner_face_eye(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny, float *nz,
+			   const double eye[3], double cos_min)
+{
+	size_t turned = 0;
+	for (size_t i = 0; i < n; i++) {
+		double to[3] = {eye[0] - x[i], eye[1] - y[i], eye[2] - z[i]};
+		double len = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
+		if (len > 0.0 && (nx[i] * to[0] + ny[i] * to[1] + nz[i] * to[2]) / len < -cos_min) {
+			nx[i] = -nx[i];
+			ny[i] = -ny[i];
+			nz[i] = -nz[i];
+			turned++;
+		}
+	}
+	return turned;
+}
+
 size_t dp_scanner_face(size_t n, float *nx, float *ny, float *nz, const float toward[3], double cos_min)
 {
 	size_t turned = 0;

@@ -17,7 +17,9 @@
  * straight away from the scanner is turned. Views spread up to
  * asin(cos_min) about the axis (30° at the default 0.5) see no surface whose
  * outward normal does that, so a scan merged from such views is still
- * one-sided and none of its true normals is turned. */
+ * one-sided and none of its true normals is turned. With the scanner's eye
+ * given (a perspective scanner near the object, whose rays spread too wide
+ * for one axis), each point faces the eye itself and no side is read. */
 #ifndef DP_STAGES_SCANNER_H
 #define DP_STAGES_SCANNER_H
 
@@ -76,5 +78,10 @@ dp_status dp_scanner_side(size_t n, const float *x, const float *y, const float 
 /* Turns (negates) every normal with n·toward < -cos_min: `toward` is the
  * unit direction to the scanner. Returns how many it turned. */
 size_t dp_scanner_face(size_t n, float *nx, float *ny, float *nz, const float toward[3], double cos_min);
+
+/* The same with the scanner's eye at `eye`: toward is the unit direction
+ * from each point (x, y, z) to it (a point at the eye is left alone). */
+size_t dp_scanner_face_eye(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny, float *nz,
+			   const double eye[3], double cos_min);
 
 #endif

@@ -140,6 +140,8 @@ void dp_surface_params_default(dp_surface_params *p)
 	p->face_scanner = 1;
 	p->face_scanner_cos = 0.5;
 	p->scanner_side = 0;
+	p->use_viewpoint = 0;
+	p->viewpoint[0] = p->viewpoint[1] = p->viewpoint[2] = 0.0;
 }
 
 /* Working arrays, one allocation each, reused by every iteration. */
@@ -164,6 +166,8 @@ typedef struct work {
 	size_t *moving;         /* per iteration: points that moved more than min_move_r, or escaped */
 	dp_grid input, surface, skeleton;
 	float scanner[3];       /* towards the scanner (face_scanner); all zero: none */
+	int at_eye;             /* facing the scanner's eye at `eye`, per point, instead */
+	double eye[3];
 	float scanner_cos;
 } work;
 
@@ -268,6 +272,8 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 		return dp_fail(err, DP_ERR_ARG, "surface: face-scanner cosine %g is not in [0, 1)", p->face_scanner_cos);
 	if (p->scanner_side < -1 || p->scanner_side > 1)
 		return dp_fail(err, DP_ERR_ARG, "surface: scanner side %d is not -1, 0 or 1", p->scanner_side);
+	if (p->use_viewpoint && !(isfinite(p->viewpoint[0]) && isfinite(p->viewpoint[1]) && isfinite(p->viewpoint[2])))
+		return dp_fail(err, DP_ERR_ARG, "surface: the viewpoint is not finite");
 	if (p->scanner_side && p->silhouette_axis[0] == 0.0 && p->silhouette_axis[1] == 0.0 &&
 	    p->silhouette_axis[2] == 0.0)
 		return dp_fail(err, DP_ERR_ARG, "surface: a scanner side needs the view axis it lies along");
@@ -521,7 +527,8 @@ static void normals_range(void *arg, size_t begin, size_t end, int part)
 	float min_len = job->min_len;
 	int orient_by_dpoint = job->orient_by_dpoint;
 	const float *sc = job->w->scanner;
-	int facing = sc[0] != 0.0f || sc[1] != 0.0f || sc[2] != 0.0f;
+	int at_eye = job->w->at_eye, facing = at_eye || sc[0] != 0.0f || sc[1] != 0.0f || sc[2] != 0.0f;
+	const double *eye = job->w->eye;
 	size_t disagreeing = 0, turned = 0;
 	for (size_t i = begin; i < end; i++) {
 		const float *c = job->w->cov + 6 * i;
@@ -544,6 +551,11 @@ static void normals_range(void *arg, size_t begin, size_t end, int part)
 			/* input that holds a point was scanned, and so faced the
 			 * scanner (scanner.h) */
 			double by_scanner = v0[0] * sc[0] + v0[1] * sc[1] + v0[2] * sc[2];
+			if (at_eye) {
+				double to[3] = {eye[0] - a[A_PX][i], eye[1] - a[A_PY][i], eye[2] - a[A_PZ][i]};
+				double len = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
+				by_scanner = len > 0.0 ? (v0[0] * to[0] + v0[1] * to[1] + v0[2] * to[2]) / len : 0.0;
+			}
 			if (facing && held && fabs(by_scanner) > job->w->scanner_cos &&
 			    (by_scanner < 0.0) != (sign < 0.0)) {
 				sign = -sign;
@@ -668,10 +680,16 @@ static int stop_test(const work *w, size_t n, int t, const dp_surface_params *p)
 
 /* The view axis, given or, with none, the one the samples' normals (unit,
  * in A_N*) show, if any: the outline the points are held in (silhouette.h)
- * and the side the scan was taken from (scanner.h). */
+ * and the side the scan was taken from (scanner.h), unless the scanner's eye
+ * is given. */
 static dp_status view(work *w, const dp_cloud *input, size_t n, double r, const dp_surface_params *p,
 		      dp_surface_stats *st, dp_error *err)
 {
+	w->scanner_cos = (float)p->face_scanner_cos;
+	if (p->face_scanner && p->use_viewpoint) {
+		w->at_eye = 1;
+		memcpy(w->eye, p->viewpoint, sizeof w->eye);
+	}
 	float axis[3];
 	int found = 0;
 	dp_silhouette_pick(p->silhouette_axis, n, w->a[A_NX], w->a[A_NY], w->a[A_NZ], p->silhouette_grazing, &found,
@@ -680,12 +698,11 @@ static dp_status view(work *w, const dp_cloud *input, size_t n, double r, const 
 		return DP_OK;
 	int side = p->scanner_side;
 	dp_status s;
-	if (p->face_scanner && !side &&
+	if (p->face_scanner && !w->at_eye && !side &&
 	    (s = dp_scanner_side(n, w->a[A_PX], w->a[A_PY], w->a[A_PZ], w->a[A_NX], w->a[A_NY], w->a[A_NZ], axis,
 				 p->face_scanner_cos, r, &side, err)) != DP_OK)
 		return s;
-	if (p->face_scanner && side) {
-		w->scanner_cos = (float)p->face_scanner_cos;
+	if (p->face_scanner && !w->at_eye && side) {
 		for (int c = 0; c < 3; c++)
 			st->scanner[c] = w->scanner[c] = (float)side * axis[c];
 	}

@@ -64,7 +64,7 @@ _ENUMS = {
 _FLAGS = {  # int fields that are on/off switches: shown and taken as bool
     "wlop_sqrt_density", "normals_use_viewpoint", "surface_data_along_normal", "surface_reattach",
     "surface_same_side", "surface_orient_by_dpoint", "surface_sheet_points", "surface_silhouette",
-    "surface_face_scanner", "skeleton_across_only",
+    "surface_face_scanner", "surface_use_viewpoint", "skeleton_across_only",
 }
 
 
