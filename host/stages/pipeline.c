@@ -55,14 +55,8 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 			       s->silhouette_margin_r);
 	if (!(s->silhouette_grazing >= 0.0 && s->silhouette_grazing <= 1.0))
 		return dp_fail(err, DP_ERR_ARG, "silhouette grazing fraction %g is not in [0, 1]", s->silhouette_grazing);
-	if (!(s->face_scanner_cos >= 0.0 && s->face_scanner_cos < 1.0))
-		return dp_fail(err, DP_ERR_ARG, "face-scanner cosine %g is not in [0, 1)", s->face_scanner_cos);
-	if (s->scanner_side < -1 || s->scanner_side > 1)
-		return dp_fail(err, DP_ERR_ARG, "scanner side %d is not -1, 0 or 1", s->scanner_side);
-	if (s->use_viewpoint && !(isfinite(s->viewpoint[0]) && isfinite(s->viewpoint[1]) && isfinite(s->viewpoint[2])))
-		return dp_fail(err, DP_ERR_ARG, "the scanner's viewpoint is not finite");
-	if (s->scanner_side && g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0)
-		return dp_fail(err, DP_ERR_ARG, "scanner side %d needs the view axis it lies along", s->scanner_side);
+	if (dp_scanner_check(s, "", err) != DP_OK)
+		return DP_ERR_ARG;
 	if ((g[0] != 0.0 || g[1] != 0.0 || g[2] != 0.0) && !dp_silhouette_unit(g, unit))
 		return dp_fail(err, DP_ERR_ARG, "view axis (%g, %g, %g) has no direction", g[0], g[1], g[2]);
 	return DP_OK;

@@ -6,6 +6,21 @@
 #include <math.h>
 #include <stdlib.h>
 
+dp_status dp_scanner_check(const dp_surface_params *p, const char *prefix, dp_error *err)
+{
+	const double *g = p->silhouette_axis, *e = p->viewpoint;
+	if (!(p->face_scanner_cos >= 0.0 && p->face_scanner_cos < 1.0))
+		return dp_fail(err, DP_ERR_ARG, "%sface-scanner cosine %g is not in [0, 1)", prefix, p->face_scanner_cos);
+	if (p->scanner_side < -1 || p->scanner_side > 1)
+		return dp_fail(err, DP_ERR_ARG, "%sscanner side %d is not -1, 0 or 1", prefix, p->scanner_side);
+	if (p->scanner_side && g[0] == 0.0 && g[1] == 0.0 && g[2] == 0.0)
+		return dp_fail(err, DP_ERR_ARG, "%sscanner side %d needs the view axis it lies along", prefix,
+			       p->scanner_side);
+	if (p->use_viewpoint && !(isfinite(e[0]) && isfinite(e[1]) && isfinite(e[2])))
+		return dp_fail(err, DP_ERR_ARG, "%sthe scanner's viewpoint is not finite", prefix);
+	return DP_OK;
+}
+
 /* A sample's column across the axis and its depth along it. */
 typedef struct column_depth {
 	double u, v, depth;

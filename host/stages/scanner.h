@@ -75,6 +75,11 @@ dp_status dp_scanner_side(size_t n, const float *x, const float *y, const float 
 			  const float *ny, const float *nz, const float axis[3], double cos_min, double r, int *side,
 			  dp_error *err);
 
+/* The facing parameters of `p` (face_scanner_cos, scanner_side and the axis
+ * it needs, the viewpoint): DP_OK, or DP_ERR_ARG with one line naming the
+ * parameter, after `prefix` (the caller's name, or ""). */
+dp_status dp_scanner_check(const dp_surface_params *p, const char *prefix, dp_error *err);
+
 /* Turns (negates) every normal with n·toward < -cos_min: `toward` is the
  * unit direction to the scanner. Returns how many it turned. */
 size_t dp_scanner_face(size_t n, float *nx, float *ny, float *nz, const float toward[3], double cos_min);

@@ -268,15 +268,8 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 	    !isfinite(p->silhouette_axis[1]) || !isfinite(p->silhouette_axis[2]) ||
 	    !isfinite(p->sigma_p * r) || !isfinite(p->normal_radius_r * r) || !isfinite(p->reattach_radius_r * r))
 		return dp_fail(err, DP_ERR_ARG, "surface: a parameter is out of range");
-	if (!(p->face_scanner_cos >= 0.0 && p->face_scanner_cos < 1.0))
-		return dp_fail(err, DP_ERR_ARG, "surface: face-scanner cosine %g is not in [0, 1)", p->face_scanner_cos);
-	if (p->scanner_side < -1 || p->scanner_side > 1)
-		return dp_fail(err, DP_ERR_ARG, "surface: scanner side %d is not -1, 0 or 1", p->scanner_side);
-	if (p->use_viewpoint && !(isfinite(p->viewpoint[0]) && isfinite(p->viewpoint[1]) && isfinite(p->viewpoint[2])))
-		return dp_fail(err, DP_ERR_ARG, "surface: the viewpoint is not finite");
-	if (p->scanner_side && p->silhouette_axis[0] == 0.0 && p->silhouette_axis[1] == 0.0 &&
-	    p->silhouette_axis[2] == 0.0)
-		return dp_fail(err, DP_ERR_ARG, "surface: a scanner side needs the view axis it lies along");
+	if (dp_scanner_check(p, "surface: ", err) != DP_OK)
+		return DP_ERR_ARG;
 	if (!finite3(input->n, input->x, input->y, input->z))
 		return dp_fail(err, DP_ERR_ARG, "surface: non-finite input point");
 	if (!finite3(samples->n, samples->x, samples->y, samples->z) ||
