@@ -133,8 +133,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--normal-k", CLI_INT, &p->normals.k, "PCA neighbours per normal", NULL, NULL},
 		{"--graph-k", CLI_INT, &p->normals.k_graph, "neighbours in the orientation graph", NULL, NULL},
 		{"--viewpoint", CLI_VEC3, p->normals.viewpoint,
-		 "the scanner's position: normals are oriented towards it instead of by the MST, and the surface's "
-		 "points on the scan face it (README \"Facing the scanner\")", NULL,
+		 "the scanner's position: normals are oriented towards it instead of by the MST, and (facing the scanner "
+		 "on) the surface's points on the scan face it (README \"Facing the scanner\")", NULL,
 		 &p->normals.use_viewpoint},
 		{"--omega", CLI_DOUBLE, &p->sink.omega_deg, "settle angle omega, degrees (paper: 45)", NULL, NULL},
 		{"--sigma-p", CLI_DOUBLE, &sigma_p, "static neighbourhood sigma_p, in r, of sinking and surface", NULL,
@@ -240,11 +240,12 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "a view axis is a direction to which at most this fraction of the normals lie within 10 degrees of "
 		 "perpendicular", NULL, NULL},
 		{"--no-face-scanner", CLI_FLAG, &no_face_scanner,
-		 "leave normals that face away from the scanner of a one-sided scan as orientation signed them, "
-		 "instead of turning those on the scan to face it (README \"Facing the scanner\")", NULL, NULL},
+		 "leave normals that face away from the scanner of a one-sided scan (or from --viewpoint) as "
+		 "orientation signed them, instead of turning those on the scan to face it (README \"Facing the "
+		 "scanner\")", NULL, NULL},
 		{"--face-scanner-cos", CLI_DOUBLE, &p->surface.face_scanner_cos,
-		 "a normal on a one-sided scan is turned to face the scanner when it points within acos of this of "
-		 "straight away from it", NULL, NULL},
+		 "a normal on a one-sided scan is turned to face the scanner (or --viewpoint) when it points within "
+		 "acos of this of straight away from it", NULL, NULL},
 		{"--coarse-samples", CLI_COUNT, &p->refine.coarse_samples,
 		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,

@@ -819,8 +819,10 @@ typedef struct dp_surface_params {
 	int use_viewpoint;        /* 1: the scan was taken from `viewpoint`, a perspective scanner's eye: with
 	                             face_scanner a held point's PCA normal faces that point instead (where it
 	                             points within acos(face_scanner_cos) of straight towards or away from it), with
-	                             or without an axis. dp_consolidate takes dp_normal_params' viewpoint when this
-	                             is 0 and that has one. Default 0 */
+	                             or without an axis, and dp_consolidate turns the WLOP samples so (none when the
+	                             normals stage oriented them towards the same point). Not with scanner_side.
+	                             dp_consolidate takes dp_normal_params' viewpoint when this is 0, no side is
+	                             given and that has one. Default 0 */
 	double viewpoint[3];      /* the scanner's eye, in input coordinates */
 } dp_surface_params;
 
@@ -843,7 +845,8 @@ typedef struct dp_surface_stats {
 	                              outline nor face_scanner looked for one */
 	size_t silhouette_held;  /* points held back at the outline, over all iterations */
 	double scanner[3];       /* unit direction towards the scanner the held points' normals faced
-	                            (face_scanner); all zero: none */
+	                            (face_scanner); all zero: none, or each faced the eye (scanner_at_eye) */
+	int scanner_at_eye;      /* 1: the held points' normals faced the scanner's eye (use_viewpoint) */
 	size_t scanner_turned;   /* held points whose PCA normal took the scanner's sign against the one it
 	                            would have had, over all iterations */
 	double seconds;

@@ -213,6 +213,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	for (int c = 0; c < 3; c++)
 		dp_json_num(w, NULL, r->surface_stats.scanner[c]);
 	dp_json_end_array(w);
+	dp_json_bool(w, "scanner_at_eye", r->surface_stats.scanner_at_eye);
 	dp_json_int(w, "scanner_turned", (long long)r->surface_stats.scanner_turned);
 	dp_json_int(w, "samples_turned", (long long)r->samples_turned);
 	dp_json_int(w, "normals_disagreeing", (long long)r->surface_stats.normals_disagreeing);

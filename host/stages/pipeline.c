@@ -228,16 +228,18 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
 
 /* The scan's view axis, given or found from the WLOP samples' normals
  * (silhouette.h; all zero: none), and the side it was taken from
- * (scanner.h; 0: both or unknown), whose samples' normals then face it.
- * Every surface run gets both: the levels' samples are the completed
- * surface, whose normals face every way. */
+ * (scanner.h; 0: both or unknown), whose samples' normals then face it; or,
+ * with the scanner's eye given, the samples face the eye and no side is
+ * read. Every surface run gets the same: the levels' samples are the
+ * completed surface, whose normals face every way. DP_ERR_NOMEM. */
 static dp_status view_of_scan(const dp_surface_params *p, dp_result *res, double axis_out[3], int *side,
 			      dp_error *err)
 {
 	axis_out[0] = axis_out[1] = axis_out[2] = 0.0;
 	*side = 0;
 	dp_cloud *w = &res->wlop;
-	/* a scanner's eye given: the samples face it, and no side is needed */
+	/* a scanner's eye given: the samples face it (those the normals stage
+	 * oriented towards it already do), and no side is needed */
 	if (p->face_scanner && p->use_viewpoint)
 		res->samples_turned = dp_scanner_face_eye(w->n, w->x, w->y, w->z, w->nx, w->ny, w->nz, p->viewpoint,
 							  p->face_scanner_cos);
@@ -378,9 +380,10 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		goto fail;
 	}
 
-	/* the scanner's eye, the surface's own or else the normals' */
+	/* the scanner's eye, the surface's own or else the normals' (unless a
+	 * side was given: that says where the scanner was) */
 	dp_surface_params seen = params->surface;
-	if (!seen.use_viewpoint && params->normals.use_viewpoint) {
+	if (!seen.use_viewpoint && !seen.scanner_side && params->normals.use_viewpoint) {
 		seen.use_viewpoint = 1;
 		memcpy(seen.viewpoint, params->normals.viewpoint, sizeof seen.viewpoint);
 	}
@@ -448,6 +451,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		res->surface_stats.spacing_growth = sst.spacing_growth;
 		memcpy(res->surface_stats.silhouette_axis, sst.silhouette_axis, sizeof sst.silhouette_axis);
 		memcpy(res->surface_stats.scanner, sst.scanner, sizeof sst.scanner);
+		res->surface_stats.scanner_at_eye = sst.scanner_at_eye;
 	}
 	dp_cloud_free(&coarse);
 	dp_cloud_free(&res->skeleton);

@@ -18,6 +18,9 @@ dp_status dp_scanner_check(const dp_surface_params *p, const char *prefix, dp_er
 			       p->scanner_side);
 	if (p->use_viewpoint && !(isfinite(e[0]) && isfinite(e[1]) && isfinite(e[2])))
 		return dp_fail(err, DP_ERR_ARG, "%sthe scanner's viewpoint is not finite", prefix);
+	if (p->use_viewpoint && p->scanner_side)
+		return dp_fail(err, DP_ERR_ARG, "%sa scanner side and a viewpoint both given: one says where the scanner "
+			       "was", prefix);
 	return DP_OK;
 }
 
@@ -40,6 +43,8 @@ dp_status dp_scanner_layered(size_t n, const float *x, const float *y, const flo
 			     double r, double *layered, dp_error *err)
 {
 	*layered = 0.0;
+	if (!(r > 0.0 && isfinite(DP_SCANNER_CELL_R * r)))
+		return dp_fail(err, DP_ERR_ARG, "scanner: spacing r = %g gives no columns", r);
 	if (n == 0)
 		return DP_OK;
 	column_depth *c = dp_alloc_array(n, sizeof *c);

@@ -13,13 +13,14 @@
  * within acos(cos_min) of the axis either way, at most DP_SCANNER_MINORITY
  * point the minority's way (the bunny's single views: none of about 3000;
  * its opposite pairs: 47-50%), or up to DP_SCANNER_SLIPS where the samples
- * form one layer along the axis, as a single range image does. Only a normal within acos(cos_min) of pointing
- * straight away from the scanner is turned. Views spread up to
- * asin(cos_min) about the axis (30° at the default 0.5) see no surface whose
- * outward normal does that, so a scan merged from such views is still
- * one-sided and none of its true normals is turned. With the scanner's eye
- * given (a perspective scanner near the object, whose rays spread too wide
- * for one axis), each point faces the eye itself and no side is read. */
+ * form one layer along the axis, as a single range image does. Only a normal
+ * within acos(cos_min) of pointing straight away from the scanner is turned.
+ * Views spread up to asin(cos_min) about the axis (30° at the default 0.5)
+ * see no surface whose outward normal does that, so a scan merged from such
+ * views is still one-sided and none of its true normals is turned. With the
+ * scanner's eye given (a perspective scanner near the object, whose rays
+ * spread too wide for one axis), each point faces the eye itself and no side
+ * is read. */
 #ifndef DP_STAGES_SCANNER_H
 #define DP_STAGES_SCANNER_H
 
@@ -60,8 +61,8 @@
 #define DP_SCANNER_GAP_R 3.0
 
 /* The fraction of the n points that lie in a column (along the unit `axis`,
- * DP_SCANNER_CELL_R r across) holding two layers, into *layered. r > 0.
- * DP_ERR_NOMEM. Reads only. */
+ * DP_SCANNER_CELL_R r across) holding two layers, into *layered.
+ * DP_ERR_ARG unless r > 0 gives finite columns, DP_ERR_NOMEM. Reads only. */
 dp_status dp_scanner_layered(size_t n, const float *x, const float *y, const float *z, const float axis[3],
 			     double r, double *layered, dp_error *err);
 
@@ -76,8 +77,9 @@ dp_status dp_scanner_side(size_t n, const float *x, const float *y, const float 
 			  dp_error *err);
 
 /* The facing parameters of `p` (face_scanner_cos, scanner_side and the axis
- * it needs, the viewpoint): DP_OK, or DP_ERR_ARG with one line naming the
- * parameter, after `prefix` (the caller's name, or ""). */
+ * it needs, the viewpoint, not both a side and an eye): DP_OK, or
+ * DP_ERR_ARG with one line naming the parameter, after `prefix` (the
+ * caller's name, or ""). */
 dp_status dp_scanner_check(const dp_surface_params *p, const char *prefix, dp_error *err);
 
 /* Turns (negates) every normal with n·toward < -cos_min: `toward` is the

@@ -546,8 +546,8 @@ static void normals_range(void *arg, size_t begin, size_t end, int part)
 			double by_scanner = v0[0] * sc[0] + v0[1] * sc[1] + v0[2] * sc[2];
 			if (at_eye) {
 				double to[3] = {eye[0] - a[A_PX][i], eye[1] - a[A_PY][i], eye[2] - a[A_PZ][i]};
-				double len = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
-				by_scanner = len > 0.0 ? (v0[0] * to[0] + v0[1] * to[1] + v0[2] * to[2]) / len : 0.0;
+				double dist = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
+				by_scanner = dist > 0.0 ? (v0[0] * to[0] + v0[1] * to[1] + v0[2] * to[2]) / dist : 0.0;
 			}
 			if (facing && held && fabs(by_scanner) > job->w->scanner_cos &&
 			    (by_scanner < 0.0) != (sign < 0.0)) {
@@ -680,7 +680,7 @@ static dp_status view(work *w, const dp_cloud *input, size_t n, double r, const 
 {
 	w->scanner_cos = (float)p->face_scanner_cos;
 	if (p->face_scanner && p->use_viewpoint) {
-		w->at_eye = 1;
+		w->at_eye = st->scanner_at_eye = 1;
 		memcpy(w->eye, p->viewpoint, sizeof w->eye);
 	}
 	float axis[3];
