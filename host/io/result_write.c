@@ -9,6 +9,15 @@
 #include <stdlib.h>
 #include <string.h>
 
+/* A 3-vector as an array member `name`. */
+static void json_vec3(dp_json_writer *w, const char *name, const double v[3])
+{
+	dp_json_array(w, name);
+	for (int c = 0; c < 3; c++)
+		dp_json_num(w, NULL, v[c]);
+	dp_json_end_array(w);
+}
+
 void dp_json_wlop_params(dp_json_writer *w, const dp_wlop_params *p)
 {
 	dp_json_object(w, "wlop");
@@ -36,10 +45,7 @@ void dp_json_normal_params(dp_json_writer *w, const dp_normal_params *p)
 	dp_json_int(w, "k_graph", p->k_graph);
 	dp_json_bool(w, "use_viewpoint", p->use_viewpoint);
 	if (p->use_viewpoint) {
-		dp_json_array(w, "viewpoint");
-		for (int k = 0; k < 3; k++)
-			dp_json_num(w, NULL, p->viewpoint[k]);
-		dp_json_end_array(w);
+		json_vec3(w, "viewpoint", p->viewpoint);
 	}
 	dp_json_end_object(w);
 }
@@ -104,20 +110,14 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	dp_json_bool(w, "orient_by_dpoint", p->orient_by_dpoint);
 	dp_json_bool(w, "sheet_points", p->sheet_points);
 	dp_json_bool(w, "silhouette", p->silhouette);
-	dp_json_array(w, "silhouette_axis");
-	for (int c = 0; c < 3; c++)
-		dp_json_num(w, NULL, p->silhouette_axis[c]);
-	dp_json_end_array(w);
+	json_vec3(w, "silhouette_axis", p->silhouette_axis);
 	dp_json_num(w, "silhouette_grazing", p->silhouette_grazing);
 	dp_json_num(w, "silhouette_margin_r", p->silhouette_margin_r);
 	dp_json_bool(w, "face_scanner", p->face_scanner);
 	dp_json_num(w, "face_scanner_cos", p->face_scanner_cos);
 	dp_json_int(w, "scanner_side", p->scanner_side);
 	dp_json_bool(w, "use_viewpoint", p->use_viewpoint);
-	dp_json_array(w, "viewpoint");
-	for (int c = 0; c < 3; c++)
-		dp_json_num(w, NULL, p->viewpoint[c]);
-	dp_json_end_array(w);
+	json_vec3(w, "viewpoint", p->viewpoint);
 	dp_json_end_object(w);
 }
 
@@ -201,18 +201,12 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "reattached", (long long)r->surface_stats.reattached);
 	dp_json_int(w, "escaped", (long long)r->surface_stats.escaped);
 	dp_json_int(w, "sheet_points", (long long)r->surface_stats.sheet_points);
-	dp_json_array(w, "silhouette_axis");
-	for (int c = 0; c < 3; c++)
-		dp_json_num(w, NULL, r->surface_stats.silhouette_axis[c]);
-	dp_json_end_array(w);
+	json_vec3(w, "silhouette_axis", r->surface_stats.silhouette_axis);
 	dp_json_num(w, "silhouette_grazing", r->surface_stats.silhouette_grazing);
 	dp_json_int(w, "silhouette_held", (long long)r->surface_stats.silhouette_held);
 	dp_json_int(w, "even_moved", (long long)r->even_moved);
 	dp_json_int(w, "silhouette_capped", (long long)r->silhouette_capped);
-	dp_json_array(w, "scanner");
-	for (int c = 0; c < 3; c++)
-		dp_json_num(w, NULL, r->surface_stats.scanner[c]);
-	dp_json_end_array(w);
+	json_vec3(w, "scanner", r->surface_stats.scanner);
 	dp_json_bool(w, "scanner_at_eye", r->surface_stats.scanner_at_eye);
 	dp_json_int(w, "scanner_turned", (long long)r->surface_stats.scanner_turned);
 	dp_json_int(w, "samples_turned", (long long)r->samples_turned);
