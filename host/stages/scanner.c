@@ -98,6 +98,18 @@ dp_status dp_scanner_side(size_t n, const float *x, const float *y, const float 
 	return st;
 }
 
+/* Negates normal i when `by` (its cosine to the scanner) is below -cos_min:
+ * 1 when it did. */
+static int turn(float *nx, float *ny, float *nz, size_t i, double by, double cos_min)
+{
+	if (!(by < -cos_min))
+		return 0;
+	nx[i] = -nx[i];
+	ny[i] = -ny[i];
+	nz[i] = -nz[i];
+	return 1;
+}
+
 size_t dp_scanner_face_eye(size_t n, const float *x, const float *y, const float *z, float *nx, float *ny, float *nz,
 			   const double eye[3], double cos_min)
 {
@@ -105,12 +117,8 @@ size_t dp_scanner_face_eye(size_t n, const float *x, const float *y, const float
 	for (size_t i = 0; i < n; i++) {
 		double to[3] = {eye[0] - x[i], eye[1] - y[i], eye[2] - z[i]};
 		double len = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
-		if (len > 0.0 && (nx[i] * to[0] + ny[i] * to[1] + nz[i] * to[2]) / len < -cos_min) {
-			nx[i] = -nx[i];
-			ny[i] = -ny[i];
-			nz[i] = -nz[i];
-			turned++;
-		}
+		if (len > 0.0)
+			turned += turn(nx, ny, nz, i, (nx[i] * to[0] + ny[i] * to[1] + nz[i] * to[2]) / len, cos_min);
 	}
 	return turned;
 }
@@ -118,14 +126,8 @@ size_t dp_scanner_face_eye(size_t n, const float *x, const float *y, const float
 size_t dp_scanner_face(size_t n, float *nx, float *ny, float *nz, const float toward[3], double cos_min)
 {
 	size_t turned = 0;
-	for (size_t i = 0; i < n; i++) {
-		double d = (double)nx[i] * toward[0] + (double)ny[i] * toward[1] + (double)nz[i] * toward[2];
-		if (d < -cos_min) {
-			nx[i] = -nx[i];
-			ny[i] = -ny[i];
-			nz[i] = -nz[i];
-			turned++;
-		}
-	}
+	for (size_t i = 0; i < n; i++)
+		turned += turn(nx, ny, nz, i,
+			       (double)nx[i] * toward[0] + (double)ny[i] * toward[1] + (double)nz[i] * toward[2], cos_min);
 	return turned;
 }

@@ -543,12 +543,13 @@ static void normals_range(void *arg, size_t begin, size_t end, int part)
 			double sign = (orient_by_dpoint && has_len && !held ? by_m : by_old) < 0.0 ? -1.0 : 1.0;
 			/* input that holds a point was scanned, and so faced the
 			 * scanner (scanner.h) */
-			double by_scanner = v0[0] * sc[0] + v0[1] * sc[1] + v0[2] * sc[2];
+			double to[3] = {sc[0], sc[1], sc[2]}, dist = 1.0;
 			if (at_eye) {
-				double to[3] = {eye[0] - a[A_PX][i], eye[1] - a[A_PY][i], eye[2] - a[A_PZ][i]};
-				double dist = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
-				by_scanner = dist > 0.0 ? (v0[0] * to[0] + v0[1] * to[1] + v0[2] * to[2]) / dist : 0.0;
+				for (int k = 0; k < 3; k++)
+					to[k] = eye[k] - a[A_PX + k][i];
+				dist = sqrt(to[0] * to[0] + to[1] * to[1] + to[2] * to[2]);
 			}
+			double by_scanner = dist > 0.0 ? (v0[0] * to[0] + v0[1] * to[1] + v0[2] * to[2]) / dist : 0.0;
 			if (facing && held && fabs(by_scanner) > job->w->scanner_cos &&
 			    (by_scanner < 0.0) != (sign < 0.0)) {
 				sign = -sign;
