@@ -190,7 +190,7 @@ if expect_ok outline consolidate "$tmp/torus.ply" -o "$tmp/outline" --samples $m
 import json, sys
 on, off = (json.load(open(d + "/report.json")) for d in sys.argv[1:3])
 p, s = on["parameters"]["surface"], on["results"]["surface"]
-if not p["silhouette"] or p["silhouette_axis"] != [0, 0, 1e300] or p["silhouette_margin_r"] != 3:
+if not p["silhouette"] or p["silhouette_axis"] != [0, 0, 1e300] or p["silhouette_margin_r"] != 2.5:
     sys.exit("parameters %s" % p)
 if s["silhouette_axis"] != [0, 0, 1] or s["silhouette_grazing"] != -1 or s["silhouette_held"] < 0:
     sys.exit("results %s" % s)

@@ -800,7 +800,9 @@ typedef struct dp_surface_params {
 	                             direction that passes lies within 45° of it (a box-like object passes many
 	                             unrelated ones); else none */
 	double silhouette_grazing; /* in [0, 1]; default 0.065 (normals spread over every direction: about 0.17) */
-	double silhouette_margin_r; /* growth of the outline, r, >= 0; default 3 */
+	double silhouette_margin_r; /* growth of the outline, r, >= 0 (room for what a scanner misses at grazing
+	                             angles, and all the room completion has to bulge past the scan's edge);
+	                             default 2.5 */
 	int face_scanner;         /* 1: where the scan was taken from one side of the view axis (given or found
 	                             as for silhouette, whether or not that is on): of the samples' normals that
 	                             point within acos(face_scanner_cos) of the axis either way, no more than one

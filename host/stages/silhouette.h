@@ -2,13 +2,14 @@
  * paper). A range scanner looking along an axis records every part of the
  * object that faces it, so seen along that axis the object covers no more
  * than its scan does: whatever completion adds must lie inside the scan's
- * outline, grown by a margin for noise (the visual hull's argument, one
- * view at a time; two opposite views share the outline). The completed
- * surface of a one-view scan otherwise runs out beyond it: bun270 of the
- * Stanford bunny, scanned from the side, grew a skirt of 309 of 4000 points
- * hanging up to 0.23 diagonals below the base, whose lowest edge the scan
- * shows; with a margin of 3 r no sample of the true surface of any of the
- * bunny's six one- and two-view scans lies outside the outline.
+ * outline, grown by a margin for noise and for what the scanner misses at
+ * grazing angles (the visual hull's argument, one view at a time; two
+ * opposite views share the outline). The completed surface of a one-view
+ * scan otherwise runs out beyond it: bun270 of the Stanford bunny, scanned
+ * from the side, grew a skirt of 309 of 4000 points hanging up to 0.23
+ * diagonals below the base, whose lowest edge the scan shows. The margin is
+ * all the room completion has to bulge past the scan's edge, and it takes
+ * it (surface.c has the measured choice of 2.5 r).
  *
  * Unless given, the axis is found: a scanner sees surfaces at a grazing
  * angle worst, so few sample normals lie within 10° of perpendicular to it
