@@ -288,19 +288,28 @@ static void test_one_view_depth(void **state)
 	dp_cloud_free(&view);
 }
 
+/* The mesh and bun000 + bun180 as one scan, or a skip without the data. */
+static void read_two_views(dp_cloud *mesh, dp_cloud *both)
+{
+	bunny_data d;
+	dp_cloud front = {0}, back = {0};
+	if (!find_data(&d) || !read_view(&d, "bun000.ply", 1, &front) || !read_view(&d, "bun180.ply", 1, &back)) {
+		dp_cloud_free(&front);
+		skip();
+	}
+	read_mesh(&d, mesh);
+	concat(&front, &back, both);
+	dp_cloud_free(&front);
+	dp_cloud_free(&back);
+}
+
 static void test_two_views(void **state)
 {
 	(void)state;
-	bunny_data d;
-	dp_cloud mesh = {0}, front = {0}, back = {0}, both = {0};
-	if (!find_data(&d) || !read_view(&d, "bun000.ply", 1, &front) || !read_view(&d, "bun180.ply", 1, &back))
-		skip();
-	read_mesh(&d, &mesh);
-	concat(&front, &back, &both);
+	dp_cloud mesh = {0}, both = {0};
+	read_two_views(&mesh, &both);
 	consolidate_and_compare("bun000 + bun180 (two views)", &mesh, &both);
 	dp_cloud_free(&mesh);
-	dp_cloud_free(&front);
-	dp_cloud_free(&back);
 	dp_cloud_free(&both);
 }
 
@@ -378,12 +387,8 @@ static void test_side_view_outline(void **state)
 static void test_two_views_base(void **state)
 {
 	(void)state;
-	bunny_data d;
-	dp_cloud mesh = {0}, front = {0}, back = {0}, both = {0};
-	if (!find_data(&d) || !read_view(&d, "bun000.ply", 1, &front) || !read_view(&d, "bun180.ply", 1, &back))
-		skip();
-	read_mesh(&d, &mesh);
-	concat(&front, &back, &both);
+	dp_cloud mesh = {0}, both = {0};
+	read_two_views(&mesh, &both);
 	dp_result res = {0};
 	dp_error err = {0};
 	if (dp_consolidate(tk_cl_context(), &both, NULL, &res, &err) != DP_OK)
@@ -394,8 +399,6 @@ static void test_two_views_base(void **state)
 	assert_true(bulge <= BASE_BULGE_AT_MOST * (double)res.surface.n);
 	dp_result_free(&res);
 	dp_cloud_free(&mesh);
-	dp_cloud_free(&front);
-	dp_cloud_free(&back);
 	dp_cloud_free(&both);
 }
 
