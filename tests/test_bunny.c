@@ -240,7 +240,8 @@ static void test_one_view(void **state)
  * hind foot took its orientation from the body, dp_orient_outward, its
  * inward normals cost the fixed margin more: 0.802 -> 0.843 here, 0.797 ->
  * 0.831 over the six seeds; the gain asked was 0.02.) With the scan's
- * outline (dp_surface_params.silhouette): 0.830 -> 0.870, 10.11 -> 10.66 r. */
+ * outline (dp_surface_params.silhouette, its margin 2.5 r): 0.816 -> 0.860,
+ * 10.11 -> 10.66 r. */
 #define DEPTH_COVERAGE_GAIN 0.01
 
 static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, double margin_r, double fraction,
@@ -318,7 +319,7 @@ static void test_two_views(void **state)
  * scanned, so without the outline their anchors sink out below the base and
  * the completion hangs a skirt there: measured at WLOP seed 1, 243 of 4000
  * points more than 0.02 diagonals below the base (the deepest 0.23); with
- * it 4 (with the outline's margin then 3 r, about 0.026 diagonals), 340 anchors
+ * it 4 (the same at the outline's margins of 3 r and 2.5 r), 340 anchors
  * moved back into the outline. The axis found lies 3 degrees from the
  * view's (x). */
 #define SKIRT_DEPTH 0.02
