@@ -931,24 +931,25 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  *
  * The data term holds the points on the scanned part while only repulsion
  * feeds the completed part, so the completed part ends up sparser: on the
- * one-view bunny 28% of the points cover over half of the surface, their
- * nearest-neighbour spacing 1.6 times the mean against the scanned side's
- * 0.78, a spacing variation of 0.52. even_rounds moves points across that
- * step directly (dp_refine_even) instead of waiting for repulsion to carry
- * them, which takes on the order of D² iterations over D r. Three rounds of
- * three iterations, means of WLOP seeds 1-6 (coverage / flipped / spacing
- * variation / 95th-percentile accuracy; off first): one-view bunny 0.850 /
- * 1.56% / 0.52 / 0.043 -> 0.928 / 2.83% / 0.29 / 0.084, two views 0.949 /
- * 0.46% / 0.25 / 0.040 -> 0.960 / 0.54% / 0.23 / 0.054, the demo chair
- * 0.971 / 0.91% / 0.23 / 0.0119 -> 0.977 / 1.00% / 0.18 / 0.0157. The
- * completed part gets its share of the points, and with them the flips and
- * the distance of a shape the method guesses (the ears' back, the base); the
- * sparsest places, which take the points first, are often the worst guessed
- * (the one-view bunny's points without input: 2.5% -> 3.5% flipped, 0.026 ->
- * 0.036 diagonals off on average). Hence off by default; for an even
+ * one-view bunny (WLOP seed 1) a third of the points cover about half of the
+ * surface, their nearest-neighbour spacing 1.5 times the mean against the
+ * scanned side's 0.77, a spacing variation of 0.50. even_rounds moves points
+ * across that step directly (dp_refine_even) instead of waiting for
+ * repulsion to carry them, which takes on the order of D² iterations over D
+ * r. Three rounds of three iterations, means of WLOP seeds 1-6 (coverage /
+ * flipped / spacing variation / 95th-percentile accuracy; off first):
+ * one-view bunny 0.845 / 0.94% / 0.50 / 0.034 -> 0.928 / 1.93% / 0.28 /
+ * 0.072, two views 0.967 / 0.48% / 0.22 / 0.017 -> 0.973 / 0.50% / 0.23 /
+ * 0.023, the demo chair 0.971 / 0.91% / 0.23 / 0.0119 -> 0.977 / 1.00% /
+ * 0.18 / 0.0157 (README (38) has one and two rounds). The completed part
+ * gets its share of the points, and with them the flips and the distance of
+ * a shape the method guesses (the ears' back, the base); the sparsest
+ * places, which take the points first, are often the worst guessed (the
+ * one-view bunny's points without input, seed 1: 1.9% -> 2.3% flipped, 0.016
+ * -> 0.024 diagonals off on average). Hence off by default; for an even
  * sampling to mesh from it helps (screened Poisson error of the one-view
- * bunny 0.0112 -> 0.0096 diagonals, lower at all six seeds; two views 0.0038
- * -> 0.0036).
+ * bunny 0.0103 -> 0.0087 diagonals, lower at all six seeds; two views 0.0026
+ * -> 0.0025).
  */
 #define DP_MAX_LEVELS 12
 
