@@ -129,8 +129,8 @@ static void print_stages(const dp_result *res)
 static void print_eval(const char *name, const dp_eval_result *e)
 {
 	printf(",\"%s\":{\"points\":%zu,\"accuracy_mean\":%.5f,\"accuracy_p95\":%.5f,\"coverage\":%.4f,"
-	       "\"spacing_cv\":%.4f",
-	       name, e->points, e->accuracy_mean, e->accuracy_p95, e->coverage, e->spacing_cv);
+	       "\"spacing_cv\":%.4f,\"scatter_median\":%.4f",
+	       name, e->points, e->accuracy_mean, e->accuracy_p95, e->coverage, e->spacing_cv, e->scatter_median);
 	if (e->has_normals)
 		printf(",\"normal_angle_deg\":%.3f,\"normal_flipped\":%.4f,\"normal_flipped_clear\":%.4f",
 		       e->normal_angle_deg, e->normal_flipped, e->normal_flipped_clear);

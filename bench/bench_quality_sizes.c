@@ -187,8 +187,10 @@ out:
 static void chair_line(size_t samples, const char *set, const dp_eval_result *e)
 {
 	printf("{\"bench\":\"quality_chair\",\"samples\":%zu,\"set\":\"%s\",\"points\":%zu,\"accuracy_mean\":%.5f,"
-	       "\"accuracy_p95\":%.5f,\"completeness_mean\":%.5f,\"coverage\":%.4f,\"spacing_cv\":%.4f",
-	       samples, set, e->points, e->accuracy_mean, e->accuracy_p95, e->completeness_mean, e->coverage, e->spacing_cv);
+	       "\"accuracy_p95\":%.5f,\"completeness_mean\":%.5f,\"coverage\":%.4f,\"spacing_cv\":%.4f,"
+	       "\"scatter_median\":%.4f",
+	       samples, set, e->points, e->accuracy_mean, e->accuracy_p95, e->completeness_mean, e->coverage, e->spacing_cv,
+	       e->scatter_median);
 	if (e->has_normals)
 		printf(",\"normal_angle_deg\":%.3f,\"normal_flipped\":%.4f,\"normal_flipped_clear\":%.4f",
 		       e->normal_angle_deg, e->normal_flipped, e->normal_flipped_clear);

@@ -47,6 +47,8 @@ if full["coverage"] < 0.95:
     sys.exit("complete scan covers only %.3f" % full["coverage"])
 if not 0.3 < one["coverage"] < 0.55:
     sys.exit("one view covers %.3f, expected about half or less" % one["coverage"])
+if not 0.0 < full["scatter_median"] < 0.2:
+    sys.exit("exact samples of a sphere scatter %g off it" % full["scatter_median"])
 if full["normal_angle_deg"] > 0.01 or full["normal_flipped"] != 0:
     sys.exit("scanner normals: %g deg, %g flipped" % (full["normal_angle_deg"], full["normal_flipped"]))
 print("coverage %.3f complete, %.3f one view; accuracy %.1g" % (full["coverage"], one["coverage"], full["accuracy_mean"]))

@@ -260,6 +260,21 @@ static void test_flipped_clear(void **state)
 	dp_cloud_free(&m);
 }
 
+/* A g x g grid over [-1, 1]^2 in the plane z = 0, spacing 2 / (g - 1), with
+ * Gaussian noise of `noise` spacings across it (none: 0, and rng unused). */
+static void plane_grid(int g, double noise, dp_rng *rng, dp_cloud *pts)
+{
+	dp_error err = {0};
+	double h = 2.0 / (g - 1);
+	assert_int_equal(dp_cloud_alloc(pts, (size_t)g * g, 0, &err), DP_OK);
+	for (int i = 0; i < g; i++)
+		for (int j = 0; j < g; j++) {
+			pts->x[i * g + j] = (float)(-1 + i * h);
+			pts->y[i * g + j] = (float)(-1 + j * h);
+			pts->z[i * g + j] = noise > 0.0 ? (float)(noise * h * dp_rng_normal(rng)) : 0.0f;
+		}
+}
+
 static void test_spacing(void **state)
 {
 	(void)state;
@@ -272,13 +287,7 @@ static void test_spacing(void **state)
 	 * ((sqrt 2 + ln(1 + sqrt 2)) / 6 h). */
 	const int g = 101;
 	double h = 2.0 / (g - 1);
-	assert_int_equal(dp_cloud_alloc(&pts, (size_t)g * g, 0, &err), DP_OK);
-	for (int i = 0; i < g; i++)
-		for (int j = 0; j < g; j++) {
-			pts.x[i * g + j] = (float)(-1 + i * h);
-			pts.y[i * g + j] = (float)(-1 + j * h);
-			pts.z[i * g + j] = 0;
-		}
+	plane_grid(g, 0.0, NULL, &pts);
 	dp_eval_result r = evaluate(&m, &pts);
 	double corner = (sqrt(2.0) + log(1.0 + sqrt(2.0))) / 6.0;
 	printf("grid: spacing %.6f (h %.6f), cv %.2e, coverage %.4f, completeness %.6f (expect %.6f)\n",
@@ -305,6 +314,76 @@ static void test_spacing(void **state)
 	/* Points near the border lack neighbours on one side: a few percent. */
 	assert_true(fabs(r.spacing_mean - mean) < 0.03 * mean);
 	assert_true(fabs(r.spacing_cv - cv) < 0.03);
+	dp_cloud_free(&pts);
+	dp_cloud_free(&m);
+}
+
+/* The scatter of a point set off a surface. By hand first: a 4 x 4 grid of
+ * unit spacing whose heights alternate +-t like a chessboard has covariance
+ * diag(1.25, 1.25, t^2), and with one more point far away every grid point's
+ * 15 nearest are the rest of the grid, so 16 of the 17 read t / sqrt(1.25)
+ * (17 points or 15 would not, nor would a mean with the far point's own).
+ * Then none on a plane, in proportion to the noise on a noisy plane (the 15
+ * nearest of a grid point spread about 1.5 h along it), little on samples of
+ * the built-in sphere's mesh (its facets and its curvature), and a random
+ * cloud filling a cube near 0.590 (measured independently over 20000
+ * points; 0.589 with the point left out, 0.603 with 16 neighbours). */
+static void test_scatter(void **state)
+{
+	(void)state;
+	dp_cloud m, pts;
+	dp_error err = {0};
+	square_mesh(&m);
+	const double t = 0.5;
+	assert_int_equal(dp_cloud_alloc(&pts, 17, 0, &err), DP_OK);
+	for (int i = 0; i < 16; i++) {
+		pts.x[i] = (float)(i % 4);
+		pts.y[i] = (float)(i / 4);
+		pts.z[i] = (float)((i % 4 + i / 4) % 2 ? -t : t);
+	}
+	pts.x[16] = pts.y[16] = 0.0f, pts.z[16] = 100.0f;
+	double chess = evaluate(&m, &pts).scatter_median;
+	printf("chessboard: scatter %.6f (expect %.6f)\n", chess, t / sqrt(1.25));
+	assert_true(fabs(chess - t / sqrt(1.25)) < 1e-5);
+	dp_cloud_free(&pts);
+	double got[3];
+	const double noise[3] = {0.0, 0.1, 0.2};
+	dp_rng rng;
+	dp_rng_seed(&rng, 5);
+	for (int k = 0; k < 3; k++) {
+		plane_grid(101, noise[k], &rng, &pts);
+		got[k] = evaluate(&m, &pts).scatter_median;
+		printf("plane with noise %.1f h: scatter %.4f\n", noise[k], got[k]);
+		dp_cloud_free(&pts);
+	}
+	assert_true(got[0] < 1e-6);
+	assert_true(got[1] > 0.05 && got[1] < 0.09);
+	assert_true(fabs(got[2] / got[1] - 2.0) < 0.2);
+	/* More points than the median is read at: the same noise reads the
+	 * same from the points chosen */
+	const int big = 401;
+	plane_grid(big, noise[1], &rng, &pts);
+	double chosen = evaluate(&m, &pts).scatter_median;
+	printf("plane of %d points with noise %.1f h: scatter %.4f\n", big * big, noise[1], chosen);
+	assert_true(fabs(chosen - got[1]) < 0.003);
+	dp_cloud_free(&pts);
+	const size_t n = 20000;
+	assert_int_equal(dp_cloud_alloc(&pts, n, 0, &err), DP_OK);
+	for (size_t i = 0; i < n; i++) {
+		pts.x[i] = (float)(2 * dp_rng_uniform(&rng) - 1);
+		pts.y[i] = (float)(2 * dp_rng_uniform(&rng) - 1);
+		pts.z[i] = (float)(2 * dp_rng_uniform(&rng) - 1);
+	}
+	double cloud = evaluate(&m, &pts).scatter_median;
+	dp_cloud_free(&pts);
+	dp_cloud_free(&m);
+	dp_shape s;
+	sphere_mesh(&s, &m);
+	sample(&m, n, &pts);
+	double sphere = evaluate(&m, &pts).scatter_median;
+	printf("random cube: scatter %.4f; sphere samples: %.4f\n", cloud, sphere);
+	assert_true(fabs(cloud - 0.590) < 0.008);
+	assert_true(sphere < 0.03);
 	dp_cloud_free(&pts);
 	dp_cloud_free(&m);
 }
@@ -350,6 +429,7 @@ int main(void)
 		cmocka_unit_test(test_normals),
 		cmocka_unit_test(test_flipped_clear),
 		cmocka_unit_test(test_spacing),
+		cmocka_unit_test(test_scatter),
 		cmocka_unit_test(test_bad_input),
 	};
 	return cmocka_run_group_tests(tests, NULL, NULL);

@@ -19,6 +19,7 @@ static void json_eval(json_writer *w, const char *key, const dp_eval_result *e)
 	json_num(w, "completeness_mean", e->completeness_mean);
 	json_num(w, "coverage", e->coverage);
 	json_num(w, "spacing_cv", e->spacing_cv);
+	json_num(w, "scatter_median", e->scatter_median);
 	if (e->has_normals) {
 		json_num(w, "normal_angle_deg", e->normal_angle_deg);
 		json_num(w, "normal_flipped", e->normal_flipped);

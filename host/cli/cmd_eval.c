@@ -48,6 +48,7 @@ int dp_cmd_eval(int argc, char **argv)
 		printf("completeness mean      %.6f\n", r.completeness_mean);
 		printf("coverage               %.4f (within %.6f)\n", r.coverage, r.coverage_radius);
 		printf("spacing mean / CV      %.6f / %.4f\n", r.spacing_mean, r.spacing_cv);
+		printf("scatter (median)       %.4f\n", r.scatter_median);
 		if (r.has_normals)
 			printf("normal error / flipped %.2f deg / %.4f (clear %.4f)\n", r.normal_angle_deg, r.normal_flipped,
 			       r.normal_flipped_clear);
