@@ -41,8 +41,8 @@ static void fill_eval(json_writer *w, const void *arg)
 
 static void print_row(const char *name, const dp_eval_result *e)
 {
-	printf("  %-12s %8zu %10.5f %10.5f %12.5f %9.3f %8.3f", name, e->points, e->accuracy_mean, e->accuracy_p95,
-	       e->completeness_mean, e->coverage, e->spacing_cv);
+	printf("  %-12s %8zu %10.5f %10.5f %12.5f %9.3f %8.3f %8.3f", name, e->points, e->accuracy_mean,
+	       e->accuracy_p95, e->completeness_mean, e->coverage, e->spacing_cv, e->scatter_median);
 	if (e->has_normals)
 		printf(" %9.2f %8.4f\n", e->normal_angle_deg, e->normal_flipped);
 	else
@@ -129,8 +129,8 @@ int dp_cmd_demo(int argc, char **argv)
 	if ((rc = cli_write_json(cmd, path, fill_eval, &ev)))
 		goto done;
 	printf("\nagainst the exact surface (lengths in bounding-box diagonals):\n");
-	printf("  %-12s %8s %10s %10s %12s %9s %8s %9s %8s\n", "", "points", "acc.mean", "acc.p95", "complete",
-	       "coverage", "spac.CV", "normal°", "flipped");
+	printf("  %-12s %8s %10s %10s %12s %9s %8s %8s %9s %8s\n", "", "points", "acc.mean", "acc.p95", "complete",
+	       "coverage", "spac.CV", "scatter", "normal°", "flipped");
 	print_row("input scan", &ev.before);
 	print_row("wlop", &ev.wlop);
 	print_row("surface", &ev.after);
