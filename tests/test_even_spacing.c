@@ -57,7 +57,10 @@ static int is_inner_end(const dp_cloud *k0, size_t n, float x, float y, float z)
  * scanned side is about four times as dense as its completed side, with 72%
  * of the points, at 4026 deep points): the count stays, points
  * go from the top to the bottom, every point stays on the sphere, and every
- * row's inner end is an original inner end (a kept point keeps its own). */
+ * row's inner end is an original inner end (a kept point keeps its own).
+ * A kept point keeps its row too, and each moved one's row, marked as
+ * replaced, holds a new point in the sparse half: the pipeline's inside test
+ * names deep points by row. */
 static void test_moves_dense_to_sparse(void **state)
 {
 	(void)state;
@@ -66,8 +69,24 @@ static void test_moves_dense_to_sparse(void **state)
 	two_density_sphere(1000, 200, &s, &k);
 	two_density_sphere(1000, 200, &s0, &k0);
 	size_t n = s.n, moved = 0, lower0 = below_equator(&s);
-	if (dp_refine_even(&s, &k, &moved, &err) != DP_OK)
+	unsigned char *replaced = calloc(n, 1);
+	assert_non_null(replaced);
+	if (dp_refine_even(&s, &k, replaced, &moved, &err) != DP_OK)
 		fail_msg("%s", err.message);
+	size_t marked = 0;
+	for (size_t i = 0; i < n; i++) {
+		int same = s.x[i] == s0.x[i] && s.y[i] == s0.y[i] && s.z[i] == s0.z[i] && s.nx[i] == s0.nx[i] &&
+			   s.ny[i] == s0.ny[i] && s.nz[i] == s0.nz[i] && k.x[i] == k0.x[i] && k.y[i] == k0.y[i] &&
+			   k.z[i] == k0.z[i];
+		marked += replaced[i];
+		if (replaced[i]) {
+			assert_true(s0.z[i] > 0.0f && s.z[i] < 0.0f);
+		} else {
+			assert_true(same);
+		}
+	}
+	assert_int_equal(marked, moved);
+	free(replaced);
 	size_t lower = below_equator(&s);
 	printf("1200 points, 1000 on top: moved %zu, below the equator %zu -> %zu\n", moved, lower0, lower);
 	assert_int_equal(s.n, n);
@@ -102,7 +121,7 @@ static void test_even_left_alone(void **state)
 	two_density_sphere(1200, 0, &s, &k);
 	two_density_sphere(1200, 0, &s0, &k0);
 	size_t moved = 1;
-	if (dp_refine_even(&s, &k, &moved, &err) != DP_OK)
+	if (dp_refine_even(&s, &k, NULL, &moved, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	assert_int_equal(moved, 0);
 	assert_int_equal(s.n, s0.n);
@@ -125,7 +144,7 @@ static void test_refuses_mismatch(void **state)
 	two_density_sphere(60, 60, &s, &k);
 	k.n = 100;
 	size_t moved = 7;
-	assert_int_equal(dp_refine_even(&s, &k, &moved, &err), DP_ERR_ARG);
+	assert_int_equal(dp_refine_even(&s, &k, NULL, &moved, &err), DP_ERR_ARG);
 	assert_int_equal(moved, 0);
 	k.n = s.n;
 	dp_cloud_free(&s);

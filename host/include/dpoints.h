@@ -938,18 +938,18 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * repulsion to carry them, which takes on the order of D² iterations over D
  * r. Three rounds of three iterations, means of WLOP seeds 1-6 (coverage /
  * flipped / spacing variation / 95th-percentile accuracy; off first):
- * one-view bunny 0.845 / 0.94% / 0.50 / 0.034 -> 0.928 / 1.93% / 0.28 /
- * 0.072, two views 0.967 / 0.48% / 0.22 / 0.017 -> 0.973 / 0.50% / 0.23 /
- * 0.023, the demo chair 0.971 / 0.91% / 0.23 / 0.0119 -> 0.977 / 1.00% /
- * 0.18 / 0.0157 (README (38) has one and two rounds). The completed part
- * gets its share of the points, and with them the flips and the distance of
- * a shape the method guesses (the ears' back, the base); the sparsest
- * places, which take the points first, are often the worst guessed (the
- * one-view bunny's points without input support, seed 1: 1075 -> 2141 of
- * them, 1.6% -> 2.2% flipped, 0.021 -> 0.028 diagonals off on average). Hence off by default; for an even
- * sampling to mesh from it helps (screened Poisson error of the one-view
- * bunny 0.0103 -> 0.0087 diagonals, lower at all six seeds; two views 0.0026
- * -> 0.0025).
+ * one-view bunny 0.845 / 0.94% / 0.50 / 0.034 -> 0.924 / 2.06% / 0.27 /
+ * 0.072, two views 0.967 / 0.48% / 0.22 / 0.017 -> 0.974 / 0.58% / 0.21 /
+ * 0.021, the demo chair 0.971 / 0.91% / 0.23 / 0.0119 -> 0.977 / 0.95% /
+ * 0.17 / 0.0157 (README (38) has one and two rounds, (40) why these moved).
+ * The completed part gets its share of the points, and with them the flips
+ * and the distance of a shape the method guesses (the ears' back, the
+ * base); the sparsest places, which take the points first, are often the
+ * worst guessed (the one-view bunny's points without input support, seed
+ * 1: 1075 -> 2146 of them, 1.6% -> 2.5% flipped, 0.021 -> 0.028 diagonals
+ * off on average). Hence off by default; for an even sampling to mesh from
+ * it helps (screened Poisson error of the one-view bunny 0.0103 -> 0.0086
+ * diagonals, lower at all six seeds; two views 0.0026 -> 0.0025).
  */
 #define DP_MAX_LEVELS 12
 
@@ -1002,7 +1002,9 @@ DP_API void dp_params_default(dp_params *p);
  * i and skeleton point i. wlop and anchors belong to the coarse level (its
  * n0 <= n points; n0 = n without refinement): rows 0..n0-1 of the other
  * arrays are the deep points grown from them, the rest were inserted by the
- * refined levels. Owned by the caller; release with dp_result_free.
+ * refined levels, except that an even-spacing round (dp_refine_params) puts
+ * each point it moves into the row of the point it removed (even_moved rows
+ * at most). Owned by the caller; release with dp_result_free.
  */
 typedef struct dp_result {
 	dp_cloud wlop;      /* S: WLOP samples with oriented normals (coarse level) */

@@ -199,31 +199,45 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 
 /* The even-spacing rounds (dp_refine_params.even_rounds) after the last
  * level, at its spacing r: the step they even out is between regions many r
- * apart, which the spacing of neither measures. */
+ * apart, which the spacing of neither measures. A ball of the inside test
+ * hands an escaping point the inner end of the deep point in its sample's
+ * row; a round puts a new point, elsewhere, into that row when it removes
+ * the old one, so the ball is dropped (its radius in `radius`, which `balls`
+ * reads, set to 0). */
 static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_params *params, const dp_balls *balls,
-			  dp_result *res, dp_error *err)
+			  float *radius, dp_result *res, dp_error *err)
 {
 	int rounds = params->refine.even_rounds;
+	if (rounds == 0)
+		return DP_OK;
 	dp_surface_params relax = params->surface;
 	relax.max_iters = params->refine.even_iters;
 	relax.window = params->refine.even_iters;
-	for (int round = 0; round < rounds; round++) {
+	unsigned char *replaced = calloc(res->surface.n, 1);
+	if (!replaced)
+		return dp_fail(err, DP_ERR_NOMEM, "refine: out of memory for %zu points", res->surface.n);
+	dp_status st = DP_OK;
+	for (int round = 0; st == DP_OK && round < rounds; round++) {
 		size_t moved = 0;
 		dp_cloud out = {0};
 		dp_surface_stats sst = {0};
-		dp_status st = dp_refine_even(&res->surface, &res->skeleton, &moved, err);
+		st = dp_refine_even(&res->surface, &res->skeleton, replaced, &moved, err);
+		for (size_t i = 0; balls && i < balls->n; i++)
+			if (replaced[i])
+				radius[i] = 0.0f;
 		relax.sheet_points = params->surface.sheet_points && round == rounds - 1;
 		if (st == DP_OK)
 			st = dp_surface_as(ctx, "even", input, &res->surface, &res->skeleton, balls, res->r, &relax, &out,
 					   res->eta, &sst, err);
-		if (st != DP_OK)
-			return st;
-		copy_rows(&res->surface, &out, out.n);
+		if (st == DP_OK) {
+			copy_rows(&res->surface, &out, out.n);
+			res->even_moved += moved;
+			add_run(res, &sst);
+		}
 		dp_cloud_free(&out);
-		res->even_moved += moved;
-		add_run(res, &sst);
 	}
-	return DP_OK;
+	free(replaced);
+	return st;
 }
 
 /* The scan's view axis, given or found from the WLOP samples' normals
@@ -462,7 +476,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	}
 	st = refine(ctx, input, &later, counts, levels, balls, res, err);
 	if (st == DP_OK)
-		st = even_out(ctx, input, &later, balls, res, err);
+		st = even_out(ctx, input, &later, balls, ball_radius, res, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "refine");
 		goto fail;

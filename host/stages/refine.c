@@ -329,13 +329,13 @@ static void copy_row(dp_cloud *dst, size_t di, const dp_cloud *src, size_t si)
 		dst->nx[di] = src->nx[si], dst->ny[di] = src->ny[si], dst->nz[di] = src->nz[si];
 }
 
-/* Marks with 1 up to `most` of the n points whose mean distance to their kk
- * nearest neighbours is below EVEN_DENSE times the even spacing, densest
+/* Lists in `order` up to `most` of the n points whose mean distance to their
+ * kk nearest neighbours is below EVEN_DENSE times the even spacing, densest
  * first, never two neighbours in one round (so a dense patch thins evenly
- * instead of opening a hole), listing them in `order` as marked; returns how
- * many it marked. */
-static size_t mark_densest(size_t n, int kk, const int *idx, const float *d2, size_t most, spaced *sp,
-			   unsigned char *mark, uint32_t *order)
+ * instead of opening a hole); returns how many it listed. `blocked` has n
+ * entries of scratch. */
+static size_t list_densest(size_t n, int kk, const int *idx, const float *d2, size_t most, spaced *sp,
+			   unsigned char *blocked, uint32_t *order)
 {
 	double area = 0.0;
 	size_t measured = 0;
@@ -353,19 +353,17 @@ static size_t mark_densest(size_t n, int kk, const int *idx, const float *d2, si
 			measured++;
 		}
 	}
-	memset(mark, 0, n);
 	if (!measured)
 		return 0;
 	float limit = (float)(EVEN_DENSE * sqrt(area / (double)measured));
 	qsort(sp, n, sizeof *sp, densest_first);
-	unsigned char *blocked = mark + n;
 	memset(blocked, 0, n);
 	size_t marked = 0;
 	for (size_t o = 0; o < n && marked < most && sp[o].s < limit; o++) {
 		uint32_t i = sp[o].i;
 		if (blocked[i])
 			continue;
-		mark[i] = blocked[i] = 1;
+		blocked[i] = 1;
 		order[marked++] = i;
 		for (int j = 0; j < kk; j++) {
 			int nb = idx[i * (size_t)kk + (size_t)j];
@@ -376,7 +374,8 @@ static size_t mark_densest(size_t n, int kk, const int *idx, const float *d2, si
 	return marked;
 }
 
-dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, size_t *moved, dp_error *err)
+dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, unsigned char *replaced, size_t *moved,
+			 dp_error *err)
 {
 	*moved = 0;
 	size_t n = surface->n, moves = (size_t)(EVEN_MOVE_FRACTION * (double)n);
@@ -390,10 +389,10 @@ dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, size_t *moved, d
 	int *idx = dp_alloc_array(n * (size_t)kk, sizeof(int));
 	float *d2 = dp_alloc_array(n * (size_t)kk, sizeof(float));
 	spaced *sp = dp_alloc_array(n, sizeof(spaced));
-	unsigned char *mark = dp_alloc_array(n, 2);
+	unsigned char *blocked = dp_alloc_array(n, 1);
 	uint32_t *order = dp_alloc_array(moves, sizeof(uint32_t));
 	dp_status st = DP_OK;
-	if (!idx || !d2 || !sp || !mark || !order) {
+	if (!idx || !d2 || !sp || !blocked || !order) {
 		st = dp_fail(err, DP_ERR_NOMEM, "refine: out of memory for %zu points", n);
 		goto out;
 	}
@@ -403,7 +402,7 @@ dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, size_t *moved, d
 	if ((st = dp_knn_build(&knn, n, surface->x, surface->y, surface->z, err)) != DP_OK ||
 	    (st = dp_knn_self(&knn, kk, idx, d2, err)) != DP_OK)
 		goto out;
-	size_t removing = mark_densest(n, kk, idx, d2, moves, sp, mark, order);
+	size_t removing = list_densest(n, kk, idx, d2, moves, sp, blocked, order);
 	if (removing == 0)
 		goto out;
 	if (dp_cloud_alloc(&ts, n + removing, 1, err) != DP_OK ||
@@ -421,16 +420,17 @@ dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, size_t *moved, d
 	size_t added = 0;
 	if ((st = dp_refine_insert(&ts, &tk, n + removing, &added, err)) != DP_OK)
 		goto out;
-	for (size_t o = added; o < removing; o++)
-		mark[order[o]] = 0; /* nowhere to put them: they stay */
-	size_t out_n = 0;
-	for (size_t i = 0; i < ts.n; i++)
-		if (i >= n || !mark[i]) {
-			copy_row(surface, out_n, &ts, i);
-			copy_row(skeleton, out_n, &tk, i);
-			out_n++;
-		}
-	*moved = added < removing ? added : removing;
+	/* Each new point takes the row of a removed one, densest first, so every
+	 * other row keeps its index: the inside test's balls name the rows of
+	 * the deep points grown from their samples (dp_consolidate). Listed
+	 * points beyond those inserted stay: there was nowhere to put them. */
+	for (size_t o = 0; o < added; o++) {
+		copy_row(surface, order[o], &ts, n + o);
+		copy_row(skeleton, order[o], &tk, n + o);
+		if (replaced)
+			replaced[order[o]] = 1;
+	}
+	*moved = added;
 out:
 	dp_knn_free(&knn);
 	dp_cloud_free(&ts);
@@ -438,7 +438,7 @@ out:
 	free(idx);
 	free(d2);
 	free(sp);
-	free(mark);
+	free(blocked);
 	free(order);
 	return st;
 }

@@ -24,12 +24,15 @@ dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target,
  * as dp_refine_insert takes first), longest first, then removes as many
  * points where the spacing is densest, none two neighbours,
  * each only where its spacing is well below the even spacing of the same
- * points over the same area. The count stays n and rows keep step: a removed
- * surface row takes its skeleton row with it. Rows may be reordered. *moved
- * receives how many points were removed (and so moved elsewhere). The caller
- * relaxes the result.
+ * points over the same area. The count stays n and rows keep step: each new
+ * point, with its inner end, takes the row of a removed one, and every other
+ * row keeps its index and its contents. `replaced` (n entries, may be NULL)
+ * gets 1 at each row that now holds a new point; its other entries are left
+ * as they are. *moved receives how many points were removed (and so moved
+ * elsewhere). The caller relaxes the result.
  */
-dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, size_t *moved, dp_error *err);
+dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, unsigned char *replaced, size_t *moved,
+			 dp_error *err);
 
 /* The count of each level: `levels` (>= 1) levels from coarse to target with
  * the same growth factor each, counts[levels - 1] = target. */
