@@ -38,6 +38,16 @@ run eval_no_faces eval "$tmp/good.ply" "$tmp/good.ply"
 one_error_line eval_no_faces 2 "$tmp/good.ply" "no faces"
 run scan_no_faces scan "$tmp/good.ply" -o "$out/s.ply"
 one_error_line scan_no_faces 2 "$tmp/good.ply" "no faces"
+# files that read but that eval or scan cannot use: one point, a mesh
+# squashed to one spot (the line names the file)
+echo "1 2 3" >"$bad/one.xyz"
+run eval_one_point eval "$tmp/mesh.ply" "$bad/one.xyz"
+one_error_line eval_one_point 2 "$bad/one.xyz" "need at least 2 points"
+printf 'ply\nformat ascii 1.0\nelement vertex 3\nproperty float x\nproperty float y\nproperty float z\nelement face 1\nproperty list uchar int vertex_indices\nend_header\n0 0 0\n0 0 0\n0 0 0\n3 0 1 2\n' >"$bad/spot.ply"
+run eval_spot eval "$bad/spot.ply" "$tmp/good.ply"
+one_error_line eval_spot 2 "$bad/spot.ply" "zero extent"
+run scan_spot scan "$bad/spot.ply" -o "$out/s.ply" --mesh-out "$out/m.ply"
+one_error_line scan_spot 2 "$bad/spot.ply" "zero extent"
 # an input the pipeline cannot work with: one point repeated
 for _ in 1 2 3 4 5 6 7 8 9 10 11 12; do echo "1 2 3"; done >"$bad/same.xyz"
 run wlop_same wlop "$bad/same.xyz" -o "$out/w.ply"

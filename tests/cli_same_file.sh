@@ -48,4 +48,30 @@ refused scan_mesh_out in.xyz scan in.xyz -o "$tmp/s.ply" --mesh-out in.xyz --vie
 
 # an output beside the input, with a similar name, is fine
 expect_ok wlop_beside wlop in.xyz -o in.xyz.ply --samples 30 && ok "wlop_beside: written"
+
+# Two outputs of one run that are one file, existing or not, however spelled:
+# refused with exit 2 before anything is written.
+two_outputs() {
+	local name=$1 needle=$2
+	shift 2
+	run "$name" "$@"
+	one_error_line "$name" 2 "$needle" "two outputs would be the one file"
+	for f in "$tmp/d/two.ply" "$tmp/d/old.ply"; do
+		if [ -e "$f" ] && [ "$(cksum <"$f")" != "$sum" ]; then
+			fail "$name: $f was written"
+		fi
+	done
+}
+rm -f two.ply
+two_outputs scan_two two.ply scan --shape sphere --views 1 --res 8 -o two.ply --mesh-out two.ply
+two_outputs scan_two_dot two.ply scan --shape sphere --views 1 --res 8 -o two.ply --mesh-out ./two.ply
+if [ -e two.ply ]; then fail "scan_two: wrote two.ply"; fi
+cp in.xyz old.ply
+two_outputs scan_two_old old.ply scan --shape sphere --views 1 --res 8 -o old.ply --mesh-out "$tmp/d/../d/old.ply"
+two_outputs wlop_two old.ply wlop in.xyz -o old.ply --report ./old.ply --samples 30
+# a mesh beside its scan is fine, and leaves no temporary file
+expect_ok scan_both scan --shape sphere --views 1 --res 8 -o two.ply --mesh-out mesh.ply &&
+	[ -s two.ply ] && [ -s mesh.ply ] && ok "scan_both: scan and mesh written"
+leftover=$(find . -name '*.mesh.*' -o -name '*.tmp.*')
+[ -z "$leftover" ] || fail "temporary files left: $leftover"
 finish

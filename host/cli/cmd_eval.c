@@ -37,8 +37,13 @@ int dp_cmd_eval(int argc, char **argv)
 	}
 	if (dp_cloud_read(pos[1], &points, DP_READ_POINTS, &err) != DP_OK)
 		goto fail;
-	if (dp_eval(&mesh, &points, &ep, &r, &err) != DP_OK)
+	if (dp_eval(&mesh, &points, &ep, &r, &err) != DP_OK) {
+		/* the library's message says whether the mesh or the points */
+		char both[4096];
+		snprintf(both, sizeof both, "%s, %s", pos[0], pos[1]);
+		dp_cli_name_input(&err, both);
 		goto fail;
+	}
 	if (json) {
 		dp_eval_json(&r, stdout);
 	} else {

@@ -2,7 +2,10 @@
 #include "cli/session.h"
 #include "core/common.h"
 
+#include <errno.h>
+#include <stdio.h>
 #include <string.h>
+#include <unistd.h>
 
 int dp_cmd_scan(int argc, char **argv)
 {
@@ -48,7 +51,8 @@ int dp_cmd_scan(int argc, char **argv)
 	if ((rc = cli_check_output(cmd, output)) || (mesh_out && (rc = cli_check_output(cmd, mesh_out))))
 		return rc;
 	if ((rc = cli_check_not_input(cmd, output, pos, npos)) ||
-	    (mesh_out && (rc = cli_check_not_input(cmd, mesh_out, pos, npos))))
+	    (mesh_out && (rc = cli_check_not_input(cmd, mesh_out, pos, npos))) ||
+	    (mesh_out && (rc = cli_check_distinct_outputs(cmd, mesh_out, output))))
 		return rc;
 
 	dp_error err = {0};
@@ -67,12 +71,30 @@ int dp_cmd_scan(int argc, char **argv)
 		dp_fail(&err, DP_ERR_FORMAT, "%s: has no faces; scan needs a triangle mesh", pos[0]);
 		goto fail;
 	}
-	if (dp_scan(&mesh, &sp, &points, NULL, &err) != DP_OK)
+	if (dp_scan(&mesh, &sp, &points, NULL, &err) != DP_OK) {
+		if (!shape_name)
+			dp_cli_name_input(&err, pos[0]);
 		goto fail;
-	if (mesh_out && dp_cloud_write_ply(mesh_out, &mesh, ascii, &err) != DP_OK)
+	}
+	/* The mesh goes under a temporary name until the scan is written, so a
+	 * run that fails leaves both files as they were. */
+	char mesh_tmp[4096] = "";
+	if (mesh_out) {
+		snprintf(mesh_tmp, sizeof mesh_tmp, "%s.mesh.%ld", mesh_out, (long)getpid());
+		if (dp_cloud_write_ply(mesh_tmp, &mesh, ascii, &err) != DP_OK)
+			goto fail;
+	}
+	if (dp_cloud_write_ply(output, &points, ascii, &err) != DP_OK) {
+		if (mesh_out)
+			remove(mesh_tmp);
 		goto fail;
-	if (dp_cloud_write_ply(output, &points, ascii, &err) != DP_OK)
+	}
+	if (mesh_out && rename(mesh_tmp, mesh_out) != 0) {
+		dp_fail(&err, DP_ERR_IO, "%s: cannot move the mesh into place: %s (the scan is in %s)", mesh_out,
+			strerror(errno), output);
+		remove(mesh_tmp);
 		goto fail;
+	}
 	printf("scan: %s (%zu triangles), %d view%s of %dx%d rays, noise %g diagonals -> %zu points in %s\n",
 	       shape_name ? shape_name : pos[0], mesh.nfaces, sp.views, sp.views == 1 ? "" : "s", sp.res, sp.res,
 	       sp.noise, points.n, output);

@@ -144,7 +144,8 @@ int dp_cmd_wlop(int argc, char **argv)
 	    (report && (rc = cli_check_output(cmd, report))))
 		return rc;
 	if ((!to_stdout && (rc = cli_check_not_input(cmd, run.output, pos, 1))) ||
-	    (report && (rc = cli_check_not_input(cmd, report, pos, 1))))
+	    (report && (rc = cli_check_not_input(cmd, report, pos, 1))) ||
+	    (report && !to_stdout && (rc = cli_check_distinct_outputs(cmd, report, run.output))))
 		return rc;
 
 	dp_error err = {0};

@@ -22,6 +22,9 @@ int cli_check_output(const char *cmd, const char *path);
 /* Fails (exit code, after one error line) when `output` exists and is the
  * same file as one of the inputs, which writing it would replace. */
 int cli_check_not_input(const char *cmd, const char *output, const char *const *inputs, size_t ninputs);
+/* Fails (exit code, after one error line) when the outputs `a` and `b` are
+ * one file, existing or not, which the second write would replace. */
+int cli_check_distinct_outputs(const char *cmd, const char *a, const char *b);
 /* The same for every file a consolidate run writes into folder `dir`. */
 int cli_check_folder_not_input(const char *cmd, const char *dir, const char *const *inputs, size_t ninputs);
 /* Writes a JSON document through a temporary file and a rename. */
