@@ -33,6 +33,11 @@ for c in wlop consolidate scan eval render demo; do
 	esac
 done
 
+# a flag given a value is refused, not turned on
+run flag_value consolidate "$in" -o "$out/c" --quiet=0
+one_error_line flag_value 2 "--quiet" "takes no value" "'0'"
+if [ -e "$out/c" ]; then fail "flag_value: wrote $out/c"; fi
+
 # malformed values name the option and the value
 run samples_word wlop "$in" -o "$out/w.ply" --samples many
 one_error_line samples_word 2 "--samples" "'many' is not a positive integer"

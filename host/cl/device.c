@@ -44,7 +44,10 @@ dp_status dp_cl_devices(dp_cl_device *out, size_t cap, size_t *count, dp_error *
 		nplat = DP_CL_MAX_DEVICES;
 	for (cl_uint p = 0; p < nplat; p++) {
 		char pname[128] = "";
-		clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof pname - 1, pname, NULL);
+		rc = clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof pname - 1, pname, NULL);
+		if (rc != CL_SUCCESS)
+			return dp_fail(err, DP_ERR_CL, "OpenCL: clGetPlatformInfo on platform %u failed: %s", p,
+				       dp_cl_error_name(rc));
 		cl_device_id devices[DP_CL_MAX_DEVICES];
 		cl_uint ndev = 0;
 		rc = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, DP_CL_MAX_DEVICES, devices, &ndev);
@@ -59,12 +62,16 @@ dp_status dp_cl_devices(dp_cl_device *out, size_t cap, size_t *count, dp_error *
 			dp_cl_device *o = &out[(*count)++];
 			char dname[256] = "";
 			cl_device_type type = 0;
-			clGetDeviceInfo(devices[d], CL_DEVICE_NAME, sizeof dname - 1, dname, NULL);
-			clGetDeviceInfo(devices[d], CL_DEVICE_TYPE, sizeof type, &type, NULL);
-			clGetDeviceInfo(devices[d], CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units,
-					&o->compute_units, NULL);
-			clGetDeviceInfo(devices[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem,
-					&o->global_mem, NULL);
+			o->compute_units = 0;
+			o->global_mem = 0;
+			if ((rc = clGetDeviceInfo(devices[d], CL_DEVICE_NAME, sizeof dname - 1, dname, NULL)) != CL_SUCCESS ||
+			    (rc = clGetDeviceInfo(devices[d], CL_DEVICE_TYPE, sizeof type, &type, NULL)) != CL_SUCCESS ||
+			    (rc = clGetDeviceInfo(devices[d], CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units,
+						  &o->compute_units, NULL)) != CL_SUCCESS ||
+			    (rc = clGetDeviceInfo(devices[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem,
+						  &o->global_mem, NULL)) != CL_SUCCESS)
+				return dp_fail(err, DP_ERR_CL, "OpenCL: clGetDeviceInfo on device %u of platform '%s' failed: %s",
+					       d, pname, dp_cl_error_name(rc));
 			o->platform = platforms[p];
 			o->device = devices[d];
 			snprintf(o->name, sizeof o->name, "%s / %s", pname, dname);

@@ -20,18 +20,24 @@
 		}                                                                                  \
 	} while (0)
 
+/* The build log goes into the error message, which holds its head only: a
+ * compiler reports the first error first. */
 static dp_status build_failure(dp_cl *cl, cl_int rc, dp_error *err)
 {
 	size_t len = 0;
-	clGetProgramBuildInfo(cl->program, cl->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &len);
-	char *log = malloc(len + 1);
-	if (!log)
-		return dp_fail(err, DP_ERR_KERNEL_BUILD, "OpenCL: program build failed (%s) on %s",
-			       dp_cl_error_name(rc), cl->name);
-	clGetProgramBuildInfo(cl->program, cl->device, CL_PROGRAM_BUILD_LOG, len, log, NULL);
+	cl_int lrc = clGetProgramBuildInfo(cl->program, cl->device, CL_PROGRAM_BUILD_LOG, 0, NULL, &len);
+	char *log = lrc == CL_SUCCESS ? malloc(len + 1) : NULL;
+	if (log)
+		lrc = clGetProgramBuildInfo(cl->program, cl->device, CL_PROGRAM_BUILD_LOG, len, log, NULL);
+	if (!log || lrc != CL_SUCCESS) {
+		free(log);
+		return dp_fail(err, DP_ERR_KERNEL_BUILD, "OpenCL: program build failed (%s) on %s; no build log (%s)",
+			       dp_cl_error_name(rc), cl->name, lrc != CL_SUCCESS ? dp_cl_error_name(lrc) : "out of memory");
+	}
 	log[len] = '\0';
-	dp_status st = dp_fail(err, DP_ERR_KERNEL_BUILD, "OpenCL: program build failed (%s) on %s; build log:\n%s",
-			       dp_cl_error_name(rc), cl->name, log);
+	dp_status st = dp_fail(err, DP_ERR_KERNEL_BUILD,
+			       "OpenCL: program build failed (%s) on %s; build log (%zu bytes, its head if cut):\n%s",
+			       dp_cl_error_name(rc), cl->name, len, log);
 	free(log);
 	return st;
 }

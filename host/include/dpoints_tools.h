@@ -270,8 +270,12 @@ typedef struct dp_eval_result {
  * Evaluates `points` (at least 2, finite; normals optional) against `mesh`.
  * params may be NULL for the defaults. Accuracy uses the exact point-triangle
  * distance; completeness and coverage use params->samples area-uniform
- * samples of the mesh. DP_ERR_EMPTY for fewer than 2 points, DP_ERR_ARG for
- * bad parameters or non-finite points.
+ * samples of the mesh. Errors: DP_ERR_EMPTY for fewer than 2 points;
+ * DP_ERR_ARG for bad parameters, non-finite points, a mesh without faces,
+ * of zero extent or zero area, or coordinates whose span overflows the
+ * neighbour search; DP_ERR_FORMAT for a non-finite mesh vertex or a face
+ * naming a vertex the mesh lacks; DP_ERR_NOMEM; DP_ERR_INTERNAL when the
+ * neighbour search (FLANN) fails.
  */
 DP_API dp_status dp_eval(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_params *params,
 		  dp_eval_result *result, dp_error *err);

@@ -216,7 +216,8 @@ static dp_status work_alloc(work *w, size_t n, int max_iters, dp_error *err)
 	ok &= (w->moving = dp_alloc_array((size_t)max_iters + 1, sizeof(size_t))) != NULL;
 	if (!ok) {
 		work_free(w);
-		return dp_fail(err, DP_ERR_NOMEM, "surface: out of memory for %zu points", n);
+		return dp_fail(err, DP_ERR_NOMEM, "surface: out of memory for %zu points and a cap of %d iterations", n,
+			       max_iters);
 	}
 	return DP_OK;
 }
