@@ -64,14 +64,16 @@ dp_status dp_cl_devices(dp_cl_device *out, size_t cap, size_t *count, dp_error *
 			cl_device_type type = 0;
 			o->compute_units = 0;
 			o->global_mem = 0;
-			if ((rc = clGetDeviceInfo(devices[d], CL_DEVICE_NAME, sizeof dname - 1, dname, NULL)) != CL_SUCCESS ||
-			    (rc = clGetDeviceInfo(devices[d], CL_DEVICE_TYPE, sizeof type, &type, NULL)) != CL_SUCCESS ||
-			    (rc = clGetDeviceInfo(devices[d], CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units,
+			cl_device_id dev = devices[d];
+			if ((rc = clGetDeviceInfo(dev, CL_DEVICE_NAME, sizeof dname - 1, dname, NULL)) != CL_SUCCESS ||
+			    (rc = clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL)) != CL_SUCCESS ||
+			    (rc = clGetDeviceInfo(dev, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units,
 						  &o->compute_units, NULL)) != CL_SUCCESS ||
-			    (rc = clGetDeviceInfo(devices[d], CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem,
-						  &o->global_mem, NULL)) != CL_SUCCESS)
-				return dp_fail(err, DP_ERR_CL, "OpenCL: clGetDeviceInfo on device %u of platform '%s' failed: %s",
-					       d, pname, dp_cl_error_name(rc));
+			    (rc = clGetDeviceInfo(dev, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem, &o->global_mem,
+						  NULL)) != CL_SUCCESS)
+				return dp_fail(err, DP_ERR_CL,
+					       "OpenCL: clGetDeviceInfo on device %u of platform '%s' failed: %s", d,
+					       pname, dp_cl_error_name(rc));
 			o->platform = platforms[p];
 			o->device = devices[d];
 			snprintf(o->name, sizeof o->name, "%s / %s", pname, dname);

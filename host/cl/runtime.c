@@ -32,7 +32,8 @@ static dp_status build_failure(dp_cl *cl, cl_int rc, dp_error *err)
 	if (!log || lrc != CL_SUCCESS) {
 		free(log);
 		return dp_fail(err, DP_ERR_KERNEL_BUILD, "OpenCL: program build failed (%s) on %s; no build log (%s)",
-			       dp_cl_error_name(rc), cl->name, lrc != CL_SUCCESS ? dp_cl_error_name(lrc) : "out of memory");
+			       dp_cl_error_name(rc), cl->name,
+			       lrc != CL_SUCCESS ? dp_cl_error_name(lrc) : "out of memory");
 	}
 	log[len] = '\0';
 	dp_status st = dp_fail(err, DP_ERR_KERNEL_BUILD,

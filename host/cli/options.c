@@ -161,8 +161,8 @@ int cli_parse(const char *cmd, const char *synopsis, int argc, char **argv, int 
 		if (o->kind == CLI_FLAG) {
 			/* a flag takes no value: "--quiet=0" would otherwise turn it on */
 			if (value) {
-				fprintf(stderr, "dpoints %s: %s takes no value, got '%s' (see dpoints %s --help)\n", cmd,
-					o->name, value, cmd);
+				fprintf(stderr, "dpoints %s: %s takes no value, got '%s' (see dpoints %s --help)\n",
+					cmd, o->name, value, cmd);
 				return DP_EXIT_INPUT;
 			}
 			*(int *)o->target = 1;

@@ -834,7 +834,8 @@ typedef struct dp_surface_stats {
 	int iterations;
 	int converged;           /* 1 when stopped by the test above, 0 at max_iters */
 	double last_mean_move;   /* mean move of the last iteration, in units of r */
-	double spacing_growth;   /* mean nearest-neighbour distance of P when the last iteration began over the initial one */
+	double spacing_growth;   /* mean nearest-neighbour distance of P when the last iteration began, over the
+	                            initial one */
 	size_t reattached;       /* inner ends moved to another skeleton point, over all iterations */
 	size_t normals_disagreeing; /* last iteration: PCA normals that the old normal would have signed against
 	                               the dpoint orientation m, held points included (orient_by_dpoint signs

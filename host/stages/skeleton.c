@@ -128,8 +128,8 @@ static dp_status work_alloc(work *w, size_t n, int max_iters, dp_error *err)
 	if (!w->count || !w->cov || !w->frames || !w->semi || !w->metric || !w->reach || !w->median || !w->repulse ||
 	    !w->ux || !w->uy || !w->uz || !w->gnx || !w->gny || !w->gnz || !w->nx || !w->ny || !w->nz || !w->moves) {
 		work_free(w);
-		return dp_fail(err, DP_ERR_NOMEM, "skeleton: out of memory for %zu points and a cap of %d iterations", n,
-			       max_iters);
+		return dp_fail(err, DP_ERR_NOMEM, "skeleton: out of memory for %zu points and a cap of %d iterations",
+			       n, max_iters);
 	}
 	return DP_OK;
 }
