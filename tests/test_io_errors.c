@@ -288,6 +288,14 @@ static void test_edge_errors(void **state)
 	dp_error err = {0};
 	assert_int_equal(dp_ply_read_edges(half, &edges, &nedges, &err), DP_ERR_FORMAT);
 	assert_non_null(strstr(err.message, "vertex2"));
+	/* one end named twice and the other not at all: refused, not read as
+	 * edges to vertex 0 */
+	const char *twice = tk_write_text(dir, "twice_edge.ply",
+					  "ply\nformat ascii 1.0\nelement vertex 2\nproperty float x\nproperty float y\n"
+					  "property float z\nelement edge 1\nproperty int vertex1\nproperty int vertex1\n"
+					  "end_header\n0 0 0\n1 0 0\n1 1\n");
+	assert_int_equal(dp_ply_read_edges(twice, &edges, &nedges, &err), DP_ERR_FORMAT);
+	assert_non_null(strstr(err.message, "vertex2"));
 	char missing[256];
 	snprintf(missing, sizeof missing, "%s/absent.ply", dir);
 	assert_int_equal(dp_ply_read_edges(missing, &edges, &nedges, &err), DP_ERR_IO);

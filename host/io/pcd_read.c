@@ -248,9 +248,10 @@ static int scan_packed(char **cur, dp_io_kind kind, float *slot)
 	}
 	long long v;
 	int r = dp_io_scan_int(cur, &v);
-	packed = (uint32_t)v;
-	if (r == 1)
+	if (r == 1) {
+		packed = (uint32_t)v;
 		memcpy(slot, &packed, sizeof packed);
+	}
 	return r;
 }
 

@@ -281,21 +281,23 @@ static dp_status read_data(ply_source *src, const ply_header *h, dp_error *err)
 }
 
 /* Drops the roles of data the caller did not ask for, so it is skipped; an
- * edge element asked for must name both ends. */
+ * edge element asked for must name both ends, each once (one named twice
+ * and the other not at all read the missing end as vertex 0). */
 static dp_status select_roles(dp_io_stream *s, ply_header *h, int faces, int edges, dp_error *err)
 {
 	for (int e = 0; e < h->nelements; e++) {
 		ply_element *el = &h->elements[e];
-		int ends = 0;
+		int first = 0, second = 0;
 		for (int i = 0; i < el->nprops; i++) {
 			int *role = &el->props[i].role;
 			if (*role == ROLE_FACE && !faces)
 				*role = ROLE_NONE;
 			if ((*role == ROLE_EDGE1 || *role == ROLE_EDGE2) && !edges)
 				*role = ROLE_NONE;
-			ends += *role == ROLE_EDGE1 || *role == ROLE_EDGE2;
+			first += *role == ROLE_EDGE1;
+			second += *role == ROLE_EDGE2;
 		}
-		if (edges && strcmp(el->name, "edge") == 0 && ends != 2)
+		if (edges && strcmp(el->name, "edge") == 0 && (first != 1 || second != 1))
 			return dp_fail(err, DP_ERR_FORMAT, "%s: the edge element needs int properties vertex1 and vertex2",
 				       s->path);
 	}
