@@ -72,6 +72,11 @@ two_outputs wlop_two old.ply wlop in.xyz -o old.ply --report ./old.ply --samples
 # a mesh beside its scan is fine, and leaves no temporary file
 expect_ok scan_both scan --shape sphere --views 1 --res 8 -o two.ply --mesh-out mesh.ply &&
 	[ -s two.ply ] && [ -s mesh.ply ] && ok "scan_both: scan and mesh written"
-leftover=$(find . -name '*.mesh.*' -o -name '*.tmp.*')
+# a scan that cannot be written (its name is a folder) leaves no mesh behind
+mkdir -p folder.ply
+run scan_fails scan --shape sphere --views 1 --res 8 -o folder.ply --mesh-out lone.ply
+one_error_line scan_fails 2 "folder.ply"
+if [ -e lone.ply ]; then fail "scan_fails: wrote the mesh lone.ply although the scan failed"; fi
+leftover=$(find . -name '*.tmp.*')
 [ -z "$leftover" ] || fail "temporary files left: $leftover"
 finish

@@ -20,6 +20,26 @@ static int contains_nocase(const char *hay, const char *needle)
 	return n == 0;
 }
 
+/* A platform's (device NULL) or a device's name, cut to `size`; "?" when the
+ * query fails. A name that cannot be read, or one longer than any buffer
+ * (clGet*Info refuses a buffer too small for it), must not keep the other
+ * devices from being listed and chosen. */
+static void info_name(cl_platform_id platform, cl_device_id device, char *buf, size_t size)
+{
+	size_t need = 0;
+	cl_int rc = device ? clGetDeviceInfo(device, CL_DEVICE_NAME, 0, NULL, &need)
+			   : clGetPlatformInfo(platform, CL_PLATFORM_NAME, 0, NULL, &need);
+	char *full = rc == CL_SUCCESS && need > 0 ? malloc(need) : NULL;
+	if (full)
+		rc = device ? clGetDeviceInfo(device, CL_DEVICE_NAME, need, full, NULL)
+			    : clGetPlatformInfo(platform, CL_PLATFORM_NAME, need, full, NULL);
+	if (full && rc == CL_SUCCESS)
+		snprintf(buf, size, "%.*s", (int)strnlen(full, need), full);
+	else
+		snprintf(buf, size, "?");
+	free(full);
+}
+
 static int is_index(const char *s)
 {
 	if (!*s)
@@ -43,11 +63,8 @@ dp_status dp_cl_devices(dp_cl_device *out, size_t cap, size_t *count, dp_error *
 	if (nplat > DP_CL_MAX_DEVICES)
 		nplat = DP_CL_MAX_DEVICES;
 	for (cl_uint p = 0; p < nplat; p++) {
-		char pname[128] = "";
-		rc = clGetPlatformInfo(platforms[p], CL_PLATFORM_NAME, sizeof pname - 1, pname, NULL);
-		if (rc != CL_SUCCESS)
-			return dp_fail(err, DP_ERR_CL, "OpenCL: clGetPlatformInfo on platform %u failed: %s", p,
-				       dp_cl_error_name(rc));
+		char pname[128];
+		info_name(platforms[p], NULL, pname, sizeof pname);
 		cl_device_id devices[DP_CL_MAX_DEVICES];
 		cl_uint ndev = 0;
 		rc = clGetDeviceIDs(platforms[p], CL_DEVICE_TYPE_ALL, DP_CL_MAX_DEVICES, devices, &ndev);
@@ -60,20 +77,19 @@ dp_status dp_cl_devices(dp_cl_device *out, size_t cap, size_t *count, dp_error *
 			ndev = DP_CL_MAX_DEVICES;
 		for (cl_uint d = 0; d < ndev && *count < cap; d++) {
 			dp_cl_device *o = &out[(*count)++];
-			char dname[256] = "";
-			cl_device_type type = 0;
-			o->compute_units = 0;
-			o->global_mem = 0;
+			char dname[256];
 			cl_device_id dev = devices[d];
-			if ((rc = clGetDeviceInfo(dev, CL_DEVICE_NAME, sizeof dname - 1, dname, NULL)) != CL_SUCCESS ||
-			    (rc = clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL)) != CL_SUCCESS ||
-			    (rc = clGetDeviceInfo(dev, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units,
-						  &o->compute_units, NULL)) != CL_SUCCESS ||
-			    (rc = clGetDeviceInfo(dev, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem, &o->global_mem,
-						  NULL)) != CL_SUCCESS)
-				return dp_fail(err, DP_ERR_CL,
-					       "OpenCL: clGetDeviceInfo on device %u of platform '%s' failed: %s", d,
-					       pname, dp_cl_error_name(rc));
+			info_name(NULL, dev, dname, sizeof dname);
+			/* a figure the device does not give reads 0, a type "other" */
+			cl_device_type type = 0;
+			if (clGetDeviceInfo(dev, CL_DEVICE_TYPE, sizeof type, &type, NULL) != CL_SUCCESS)
+				type = 0;
+			if (clGetDeviceInfo(dev, CL_DEVICE_MAX_COMPUTE_UNITS, sizeof o->compute_units, &o->compute_units,
+					    NULL) != CL_SUCCESS)
+				o->compute_units = 0;
+			if (clGetDeviceInfo(dev, CL_DEVICE_GLOBAL_MEM_SIZE, sizeof o->global_mem, &o->global_mem, NULL) !=
+			    CL_SUCCESS)
+				o->global_mem = 0;
 			o->platform = platforms[p];
 			o->device = devices[d];
 			snprintf(o->name, sizeof o->name, "%s / %s", pname, dname);

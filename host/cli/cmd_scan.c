@@ -77,10 +77,15 @@ int dp_cmd_scan(int argc, char **argv)
 		goto fail;
 	}
 	/* The mesh goes under a temporary name until the scan is written, so a
-	 * run that fails leaves both files as they were. */
+	 * run that fails leaves both files as they were; only the last rename
+	 * can fail after the scan is in place, and its error says so. */
 	char mesh_tmp[4096] = "";
 	if (mesh_out) {
-		snprintf(mesh_tmp, sizeof mesh_tmp, "%s.mesh.%ld", mesh_out, (long)getpid());
+		int len = snprintf(mesh_tmp, sizeof mesh_tmp, "%s.tmp.%ld", mesh_out, (long)getpid());
+		if (len < 0 || (size_t)len >= sizeof mesh_tmp) {
+			dp_fail(&err, DP_ERR_IO, "%s: the path is too long", mesh_out);
+			goto fail;
+		}
 		if (dp_cloud_write_ply(mesh_tmp, &mesh, ascii, &err) != DP_OK)
 			goto fail;
 	}

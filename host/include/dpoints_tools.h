@@ -272,8 +272,8 @@ typedef struct dp_eval_result {
  * distance; completeness and coverage use params->samples area-uniform
  * samples of the mesh. Errors: DP_ERR_EMPTY for fewer than 2 points;
  * DP_ERR_ARG for bad parameters, non-finite points, a mesh without faces,
- * of zero extent or zero area, or coordinates whose span overflows the
- * neighbour search; DP_ERR_FORMAT for a non-finite mesh vertex or a face
+ * of zero extent or zero area or with more vertices than 32-bit indices
+ * reach, or coordinates whose span overflows the neighbour search; DP_ERR_FORMAT for a non-finite mesh vertex or a face
  * naming a vertex the mesh lacks; DP_ERR_NOMEM; DP_ERR_INTERNAL when the
  * neighbour search (FLANN) fails.
  */

@@ -241,9 +241,10 @@ static int scan_packed(char **cur, dp_io_kind kind, float *slot)
 	if (kind == DP_IO_FLOAT) {
 		float f;
 		int r = dp_io_scan_float(cur, &f);
-		memcpy(&packed, &f, sizeof packed);
-		if (r == 1)
+		if (r == 1) {
+			memcpy(&packed, &f, sizeof packed);
 			memcpy(slot, &packed, sizeof packed);
+		}
 		return r;
 	}
 	long long v;
