@@ -62,7 +62,28 @@ abs=$(cd "$(dirname "$dpoints")" && pwd)/$(basename "$dpoints")
 	fail "wlop -o -: $(head -c 200 "$tmp/stdout.err")"
 status=0
 "$dpoints" wlop "$tmp/missing.ply" -o - >"$tmp/stdoutbad.out" 2>"$tmp/stdoutbad.err" || status=$?
-[ ! -s "$tmp/stdoutbad.out" ] && one_error_line stdoutbad 2 "missing.ply"
+if [ -s "$tmp/stdoutbad.out" ]; then fail "stdoutbad: wrote to stdout"; else one_error_line stdoutbad 2 "missing.ply"; fi
+# the other one-file outputs take - too; never two of one run
+(cd "$tmp" && "$abs" wlop s.ply --samples 200 --seed 4 -o rep.ply --report - --quiet >"$tmp/report.out" \
+	2>"$tmp/report.err") && [ ! -e "$tmp/-" ] && grep -q '"command": "wlop"' "$tmp/report.out" &&
+	grep -q "^wlop: " "$tmp/report.err" && ok "wlop --report -: the JSON on stdout, the summary line on stderr" ||
+	fail "wlop --report -: $(head -c 200 "$tmp/report.err")"
+run twostdout wlop "$tmp/s.ply" -o - --report -
+if [ -s "$tmp/twostdout.out" ]; then fail "twostdout: wrote to stdout"; else one_error_line twostdout 2 "only one output"; fi
+expect_ok scanfile scan --shape sphere --res 24 -o "$tmp/scan.ply" --mesh-out "$tmp/mesh.ply"
+(cd "$tmp" && "$abs" scan --shape sphere --res 24 -o - >"$tmp/scan_stdout.ply" 2>"$tmp/scan_stdout.err" &&
+	"$abs" scan --shape sphere --res 24 -o scan2.ply --mesh-out - >"$tmp/mesh_stdout.ply" 2>/dev/null) &&
+	cmp -s "$tmp/scan.ply" "$tmp/scan_stdout.ply" && cmp -s "$tmp/mesh.ply" "$tmp/mesh_stdout.ply" &&
+	cmp -s "$tmp/scan.ply" "$tmp/scan2.ply" && [ ! -e "$tmp/-" ] && grep -q "^scan: " "$tmp/scan_stdout.err" &&
+	ok "scan -o - and --mesh-out -: the same files on stdout" || fail "scan to stdout: $(head -c 200 "$tmp/scan_stdout.err")"
+run scantwo scan --shape sphere -o - --mesh-out -
+if [ -s "$tmp/scantwo.out" ]; then fail "scantwo: wrote to stdout"; else one_error_line scantwo 2 "only one output"; fi
+expect_ok renderfile render "$tmp/scan.ply" -o "$tmp/pic.png" --size 64
+(cd "$tmp" && "$abs" render scan.ply -o - --size 64 >"$tmp/pic_stdout.png" 2>/dev/null) &&
+	cmp -s "$tmp/pic.png" "$tmp/pic_stdout.png" && [ ! -e "$tmp/-" ] && ok "render -o -: the PNG on stdout" ||
+	fail "render -o - gave another picture"
+run renderbad render "$tmp/missing.ply" -o -
+if [ -s "$tmp/renderbad.out" ]; then fail "renderbad: wrote to stdout"; else one_error_line renderbad 2 "missing.ply"; fi
 
 # XYZ columns
 run odd wlop "$tmp/odd.xyz" -o "$tmp/odd.ply" --samples 200

@@ -96,6 +96,17 @@ static void draw_captions(unsigned char *rgb, int w, int h, const dp_render_para
 	}
 }
 
+typedef struct png_job {
+	const unsigned char *rgb;
+	int w, h;
+} png_job;
+
+static dp_status write_png(const char *path, const void *varg, dp_error *err)
+{
+	const png_job *job = varg;
+	return dp_png_write_rgb(path, job->rgb, job->w, job->h, err);
+}
+
 int dp_cmd_render(int argc, char **argv)
 {
 	const char *cmd = "render";
@@ -130,7 +141,8 @@ int dp_cmd_render(int argc, char **argv)
 			cmd, cmd);
 		return DP_EXIT_INPUT;
 	}
-	if ((rc = cli_check_output(cmd, output)))
+	int to_stdout = cli_is_stdout(output);
+	if (!to_stdout && (rc = cli_check_output(cmd, output)))
 		return rc;
 
 	dp_error err = {0};
@@ -180,9 +192,11 @@ int dp_cmd_render(int argc, char **argv)
 	}
 	if (!no_caption)
 		draw_captions(rgb, w, h, &rp, files, clouds, n);
-	if (dp_png_write_rgb(output, rgb, w, h, &err) != DP_OK)
-		goto fail;
-	printf("render: %zu file%s, %d view%s of %d px, up %c%s -> %s\n", n, n == 1 ? "" : "s", rp.views,
+	png_job job = {rgb, w, h};
+	if ((rc = cli_write_file(cmd, output, write_png, &job)))
+		goto done;
+	/* with -o - stdout is the picture */
+	fprintf(to_stdout ? stderr : stdout, "render: %zu file%s, %d view%s of %d px, up %c%s -> %s\n", n, n == 1 ? "" : "s", rp.views,
 	       rp.views == 1 ? "" : "s", rp.width, "xyz"[rp.up_axis], up_given ? "" : " (from the data; --up sets it)",
 	       output);
 	rc = DP_EXIT_OK;

@@ -48,11 +48,17 @@ int dp_cmd_scan(int argc, char **argv)
 	}
 	sp.layout = (dp_scan_layout)layout;
 	sp.normals = !no_normals;
-	if ((rc = cli_check_output(cmd, output)) || (mesh_out && (rc = cli_check_output(cmd, mesh_out))))
+	int to_stdout = cli_is_stdout(output), mesh_stdout = mesh_out && cli_is_stdout(mesh_out);
+	if (to_stdout && mesh_stdout) {
+		fprintf(stderr, "dpoints %s: -o - and --mesh-out -: only one output can go to standard output\n", cmd);
+		return DP_EXIT_INPUT;
+	}
+	if ((!to_stdout && (rc = cli_check_output(cmd, output))) ||
+	    (mesh_out && !mesh_stdout && (rc = cli_check_output(cmd, mesh_out))))
 		return rc;
-	if ((rc = cli_check_not_input(cmd, output, pos, npos)) ||
-	    (mesh_out && (rc = cli_check_not_input(cmd, mesh_out, pos, npos))) ||
-	    (mesh_out && (rc = cli_check_distinct_outputs(cmd, mesh_out, output))))
+	if ((!to_stdout && (rc = cli_check_not_input(cmd, output, pos, npos))) ||
+	    (mesh_out && !mesh_stdout && (rc = cli_check_not_input(cmd, mesh_out, pos, npos))) ||
+	    (mesh_out && !to_stdout && !mesh_stdout && (rc = cli_check_distinct_outputs(cmd, mesh_out, output))))
 		return rc;
 
 	dp_error err = {0};
@@ -78,9 +84,10 @@ int dp_cmd_scan(int argc, char **argv)
 	}
 	/* The mesh goes under a temporary name until the scan is written, so a
 	 * run that fails leaves both files as they were; only the last rename
-	 * can fail after the scan is in place, and its error says so. */
+	 * can fail after the scan is in place, and its error says so. A mesh
+	 * for stdout is written last instead. */
 	char mesh_tmp[4096] = "";
-	if (mesh_out) {
+	if (mesh_out && !mesh_stdout) {
 		int len = snprintf(mesh_tmp, sizeof mesh_tmp, "%s.tmp.%ld", mesh_out, (long)getpid());
 		if (len < 0 || (size_t)len >= sizeof mesh_tmp) {
 			dp_fail(&err, DP_ERR_IO, "%s: the path is too long", mesh_out);
@@ -89,25 +96,30 @@ int dp_cmd_scan(int argc, char **argv)
 		if (dp_cloud_write_ply(mesh_tmp, &mesh, ascii, &err) != DP_OK)
 			goto fail;
 	}
-	if (dp_cloud_write_ply(output, &points, ascii, &err) != DP_OK) {
-		if (mesh_out)
+	if ((rc = cli_write_ply(cmd, output, &points, ascii))) {
+		if (*mesh_tmp)
 			remove(mesh_tmp);
-		goto fail;
+		goto done;
 	}
-	if (mesh_out && rename(mesh_tmp, mesh_out) != 0) {
+	if (*mesh_tmp && rename(mesh_tmp, mesh_out) != 0) {
 		dp_fail(&err, DP_ERR_IO, "%s: cannot move the mesh into place: %s (the scan is in %s)", mesh_out,
 			strerror(errno), output);
 		remove(mesh_tmp);
 		goto fail;
 	}
-	printf("scan: %s (%zu triangles), %d view%s of %dx%d rays, noise %g diagonals -> %zu points in %s\n",
-	       shape_name ? shape_name : pos[0], mesh.nfaces, sp.views, sp.views == 1 ? "" : "s", sp.res, sp.res,
-	       sp.noise, points.n, output);
-	dp_cloud_free(&mesh);
-	dp_cloud_free(&points);
-	return DP_EXIT_OK;
+	if (mesh_stdout && (rc = cli_write_ply(cmd, mesh_out, &mesh, ascii)))
+		goto done;
+	/* with -o - or --mesh-out - stdout is that file */
+	fprintf(to_stdout || mesh_stdout ? stderr : stdout,
+		"scan: %s (%zu triangles), %d view%s of %dx%d rays, noise %g diagonals -> %zu points in %s\n",
+		shape_name ? shape_name : pos[0], mesh.nfaces, sp.views, sp.views == 1 ? "" : "s", sp.res, sp.res,
+		sp.noise, points.n, output);
+	rc = DP_EXIT_OK;
+	goto done;
 fail:
+	rc = dp_cli_fail(cmd, &err);
+done:
 	dp_cloud_free(&mesh);
 	dp_cloud_free(&points);
-	return dp_cli_fail(cmd, &err);
+	return rc;
 }

@@ -69,17 +69,6 @@ static void fill_report(json_writer *w, const void *arg)
 	json_end_object(w);
 }
 
-typedef struct write_arg {
-	const dp_cloud *cloud;
-	int ascii;
-} write_arg;
-
-static dp_status write_cloud(const char *path, const void *varg, dp_error *err)
-{
-	const write_arg *a = varg;
-	return dp_cloud_write_ply(path, a->cloud, a->ascii, err);
-}
-
 int dp_cmd_wlop(int argc, char **argv)
 {
 	const char *cmd = "wlop";
@@ -139,13 +128,18 @@ int dp_cmd_wlop(int argc, char **argv)
 	}
 	run.wp.weight = (dp_wlop_weight)weight;
 	run.input = pos[0];
-	int to_stdout = strcmp(run.output, "-") == 0;
+	int to_stdout = cli_is_stdout(run.output), report_stdout = report && cli_is_stdout(report);
+	if (to_stdout && report_stdout) {
+		fprintf(stderr, "dpoints %s: -o - and --report -: only one output can go to standard output\n", cmd);
+		return DP_EXIT_INPUT;
+	}
 	if ((!to_stdout && (rc = cli_check_output(cmd, run.output))) ||
-	    (report && (rc = cli_check_output(cmd, report))))
+	    (report && !report_stdout && (rc = cli_check_output(cmd, report))))
 		return rc;
 	if ((!to_stdout && (rc = cli_check_not_input(cmd, run.output, pos, 1))) ||
-	    (report && (rc = cli_check_not_input(cmd, report, pos, 1))) ||
-	    (report && !to_stdout && (rc = cli_check_distinct_outputs(cmd, report, run.output))))
+	    (report && !report_stdout && (rc = cli_check_not_input(cmd, report, pos, 1))) ||
+	    (report && !to_stdout && !report_stdout &&
+	     (rc = cli_check_distinct_outputs(cmd, report, run.output))))
 		return rc;
 
 	dp_error err = {0};
@@ -185,13 +179,11 @@ int dp_cmd_wlop(int argc, char **argv)
 	}
 	wlop_step(&run, start, "write", out.n);
 	t0 = dp_seconds();
-	write_arg wa = {&out, ascii};
-	if (to_stdout ? (rc = dp_cli_write_stdout(cmd, write_cloud, &wa)) != 0
-		      : (rc = dp_cloud_write_ply(run.output, &out, ascii, &err) != DP_OK ? dp_cli_fail(cmd, &err) : 0))
+	if ((rc = cli_write_ply(cmd, run.output, &out, ascii)))
 		goto done;
 	run.seconds_write = dp_seconds() - t0;
-	/* with -o - stdout is the PLY file */
-	fprintf(to_stdout ? stderr : stdout, "wlop: %zu points in, %zu out, h = %.6g, %d iterations, %.3f s density + %.3f s iterations "
+	/* with -o - or --report - stdout is that file */
+	fprintf(to_stdout || report_stdout ? stderr : stdout, "wlop: %zu points in, %zu out, h = %.6g, %d iterations, %.3f s density + %.3f s iterations "
 	       "(%.4f s/iteration), normals %.3f s, %s on %s -> %s\n",
 	       run.points_in, out.n, run.ws.h, run.ws.iterations, run.ws.seconds_density, run.ws.seconds_iterations,
 	       run.ws.iterations ? run.ws.seconds_iterations / run.ws.iterations : 0.0, run.seconds_normals,

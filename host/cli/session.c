@@ -1,6 +1,7 @@
 /* What every computing subcommand shares: the backend and device options,
  * opening the context, checking outputs up front, and atomic JSON reports. */
 #include "cli/session.h"
+#include "cli/input.h"
 
 #include "io/io.h"
 
@@ -41,17 +42,60 @@ int cli_check_output(const char *cmd, const char *path)
 	return 0;
 }
 
-int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg), const void *arg)
+int cli_is_stdout(const char *path)
 {
+	return strcmp(path, "-") == 0;
+}
+
+int cli_write_file(const char *cmd, const char *path, dp_status (*write)(const char *path, const void *arg, dp_error *err),
+		   const void *arg)
+{
+	if (cli_is_stdout(path))
+		return dp_cli_write_stdout(cmd, write, arg);
 	dp_error err = {0};
-	dp_atomic_file af;
-	if (dp_atomic_open(&af, path, &err) != DP_OK)
-		return dp_cli_fail(cmd, &err);
-	json_writer w;
-	json_begin(&w, af.f);
-	fill(&w, arg);
-	json_finish(&w);
-	if (dp_atomic_commit(&af, &err) != DP_OK)
+	if (write(path, arg, &err) != DP_OK)
 		return dp_cli_fail(cmd, &err);
 	return 0;
+}
+
+typedef struct ply_job {
+	const dp_cloud *cloud;
+	int ascii;
+} ply_job;
+
+static dp_status write_ply(const char *path, const void *varg, dp_error *err)
+{
+	const ply_job *job = varg;
+	return dp_cloud_write_ply(path, job->cloud, job->ascii, err);
+}
+
+int cli_write_ply(const char *cmd, const char *path, const dp_cloud *cloud, int ascii)
+{
+	ply_job job = {cloud, ascii};
+	return cli_write_file(cmd, path, write_ply, &job);
+}
+
+typedef struct json_job {
+	void (*fill)(json_writer *w, const void *arg);
+	const void *arg;
+} json_job;
+
+static dp_status write_json(const char *path, const void *varg, dp_error *err)
+{
+	const json_job *job = varg;
+	dp_atomic_file af;
+	dp_status st = dp_atomic_open(&af, path, err);
+	if (st != DP_OK)
+		return st;
+	json_writer w;
+	json_begin(&w, af.f);
+	job->fill(&w, job->arg);
+	json_finish(&w);
+	return dp_atomic_commit(&af, err);
+}
+
+int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg), const void *arg)
+{
+	json_job job = {fill, arg};
+	return cli_write_file(cmd, path, write_json, &job);
 }

@@ -27,7 +27,17 @@ int cli_check_not_input(const char *cmd, const char *output, const char *const *
 int cli_check_distinct_outputs(const char *cmd, const char *a, const char *b);
 /* The same for every file a consolidate run writes into folder `dir`. */
 int cli_check_folder_not_input(const char *cmd, const char *dir, const char *const *inputs, size_t ninputs);
-/* Writes a JSON document through a temporary file and a rename. */
+/* Whether an output path names standard output ("-"), which scan, render and
+ * wlop (its points and its report) accept for their one-file outputs. */
+int cli_is_stdout(const char *path);
+/* Runs `write` on `path`, or for "-" into a temporary file copied to stdout
+ * (dp_cli_write_stdout). 0, or an exit code after one error line. */
+int cli_write_file(const char *cmd, const char *path, dp_status (*write)(const char *path, const void *arg, dp_error *err),
+		   const void *arg);
+/* A PLY file of `cloud` (ascii or binary) through cli_write_file. */
+int cli_write_ply(const char *cmd, const char *path, const dp_cloud *cloud, int ascii);
+/* Writes a JSON document through a temporary file and a rename, or to
+ * stdout for "-" (cli_write_file). */
 int cli_write_json(const char *cmd, const char *path, void (*fill)(json_writer *w, const void *arg),
 		   const void *arg);
 
