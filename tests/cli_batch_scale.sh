@@ -117,7 +117,7 @@ if s["status"] != "ok" or s["error"] is not None or s["deep_points"] != 300 or s
 for k in ("wlop", "normals", "sink", "skeleton", "surface", "total"):
     if not s["seconds"][k] >= 0:
         sys.exit("seconds %r" % s["seconds"])
-if set(s["stop"]) != {"wlop", "sink", "skeleton", "surface"} or not set(s["stop"].values()) <= {"converged", "settled", "cap"}:
+if set(s["stop"]) != {"wlop", "sink", "skeleton", "surface"} or not set(s["stop"].values()) <= {"converged", "stalled", "settled", "cap"}:
     sys.exit("stop %r" % s["stop"])
 ' "$tmp/sumbad.out" 2>&1); then ok "summary --json: a failed and an ok row, exit 1"; else fail "summary --json: status $status: ${msg:-}"; fi
 # a later success clears the record

@@ -15,7 +15,7 @@ if expect_ok plain consolidate "$tmp/torus.ply" -o "$tmp/plain" --samples $m; th
 	for f in wlop.ply anchors.ply input.png; do
 		[ ! -e "$tmp/plain/$f" ] || fail "consolidate: $f written without --save-stages / --render"
 	done
-	if grep -qE '^consolidate: .*torus.ply: [0-9]+ points -> '$m' deep points' "$tmp/plain.out"; then
+	if grep -qE '^consolidate: .*torus.ply: [0-9]+ points -> '$m' deep points \(kept from [0-9]+\)' "$tmp/plain.out"; then
 		ok "summary: $(cat "$tmp/plain.out")"
 	else
 		fail "consolidate: no summary line on stdout: $(cat "$tmp/plain.out")"
@@ -51,6 +51,10 @@ for block in ("wlop", "normals", "sink", "skeleton", "surface"):
 res = r["results"]
 if res["deep_points"] != m or not res["r"] > 0:
     sys.exit("report.json: %s deep points, r = %s" % (res["deep_points"], res["r"]))
+# fewer than the coarse level: run at the coarse count (at most the input size), an even subset kept
+run, coarse = res["deep_points_run"], r["parameters"]["refine"]["coarse_samples"]
+if not m < run <= coarse:
+    sys.exit("report.json: %d deep points run for %d asked, coarse level %d" % (run, m, coarse))
 for stage in ("wlop", "sink", "skeleton", "surface"):
     if not res[stage]["iterations"] > 0:
         sys.exit("report.json: %s ran %s iterations" % (stage, res[stage]["iterations"]))

@@ -3,15 +3,10 @@
  * measured against them: issue 3's "Done means", thresholds as the issue
  * states them. Complete shapes are area-uniform samples of the mesh with
  * Gaussian noise; the one-sided cases are a single view of the virtual
- * scanner, with noise. bench/bench_quality_sizes.c prints the same numbers at
- * larger sizes, where one of them is missed: the one-view sphere's coverage
- * needs more surface iterations as the sphere gets more r across (the
- * tangential repulsion evens the density out like a diffusion). Measured
- * there, since the stop test also waits for the spacing to even out: 0.99 at
- * 1500 samples (R = 19 r), 0.91 at 3000 (R = 28 r, the cap of 200
- * iterations), 0.72 at 6000 (R = 40 r, the cap); before that change the
- * stage stopped at 0.83 at 3000. The size here is one where all targets
- * hold; the size dependence is a known limit, not hidden. */
+ * scanner, with noise. The 1500 deep points are kept from the coarse level's
+ * 4000 (dp_refine_params: a count below it is an even subset of it);
+ * bench/bench_quality_sizes.c prints the same numbers at 1500, 3000 and
+ * 4000, every target held (README has them). */
 #include "testkit.h"
 
 #include <math.h>

@@ -90,11 +90,14 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 				"(report.json has the numbers; raise --wlop-iters, --sink-iters, --skeleton-iters or "
 				"--surface-iters)\n",
 			cmd, label, summary->capped);
+	char kept[48] = "";
+	if (res->ran_with > res->surface.n)
+		snprintf(kept, sizeof kept, " (kept from %zu)", res->ran_with);
 	if (!job->json_stdout)
-		printf("consolidate: %s: %zu points -> %zu deep points, r = %.6g; iterations wlop %d, sink %d (%zu unsettled), "
+		printf("consolidate: %s: %zu points -> %zu deep points%s, r = %.6g; iterations wlop %d, sink %d (%zu unsettled), "
 	       "skeleton %d, surface %d; seconds wlop %.2f, normals %.2f, sink %.2f, skeleton %.2f, surface %.2f, "
 	       "total %.2f -> %s\n",
-	       label, in->n, res->surface.n, res->r, res->wlop_stats.iterations, res->sink_stats.iterations,
+	       label, in->n, res->surface.n, kept, res->r, res->wlop_stats.iterations, res->sink_stats.iterations,
 	       res->sink_stats.unsettled, res->skeleton_stats.iterations, res->surface_stats.iterations,
 	       res->wlop_stats.seconds_density + res->wlop_stats.seconds_iterations, res->seconds_normals,
 	       res->sink_stats.seconds, res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,

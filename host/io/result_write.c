@@ -161,6 +161,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_object(w, "results");
 	dp_json_int(w, "points_in", (long long)r->points_in);
 	dp_json_int(w, "deep_points", (long long)r->surface.n);
+	dp_json_int(w, "deep_points_run", (long long)r->ran_with);
 	dp_json_num(w, "r", r->r);
 	dp_json_object(w, "wlop");
 	dp_json_num(w, "h", r->wlop_stats.h);

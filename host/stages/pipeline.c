@@ -162,6 +162,52 @@ static dp_status sinking_balls(const dp_cloud *input, const dp_result *res, floa
 	return st;
 }
 
+/* Moves rows keep[0..m) (ascending) of the cloud's arrays to the front. */
+static void keep_rows(dp_cloud *c, const uint32_t *keep, size_t m)
+{
+	float *a[] = {c->x, c->y, c->z, c->nx, c->ny, c->nz, c->intensity};
+	for (size_t k = 0; k < sizeof a / sizeof a[0]; k++)
+		for (size_t i = 0; a[k] && i < m; i++)
+			a[k][i] = a[k][keep[i]];
+	for (size_t i = 0; c->rgb && i < m; i++)
+		memmove(c->rgb + 3 * i, c->rgb + 3 * (size_t)keep[i], 3);
+	c->n = m;
+}
+
+/* The count asked for below the coarse level: an even subset of the
+ * coarse level's deep points (dp_refine_subset over the surface), the same
+ * rows of every array. */
+static dp_status keep_subset(dp_result *res, size_t m, dp_error *err)
+{
+	uint32_t *keep = dp_alloc_array(m, sizeof *keep);
+	if (!keep)
+		return dp_fail(err, DP_ERR_NOMEM, "out of memory choosing %zu deep points", m);
+	dp_status st = dp_refine_subset(res->surface.n, res->surface.x, res->surface.y, res->surface.z, m, keep, err);
+	if (st == DP_OK) {
+		keep_rows(&res->surface, keep, m);
+		keep_rows(&res->skeleton, keep, m);
+		keep_rows(&res->wlop, keep, m);
+		keep_rows(&res->anchors, keep, m);
+		/* the settle counts describe the anchors kept, as anchors.ply does */
+		dp_sink_stats *ss = &res->sink_stats;
+		ss->settled_front = ss->settled_medial = ss->settled_width = ss->settled_slow = ss->settled_flat =
+			ss->unsettled = 0;
+		for (size_t i = 0; i < m; i++) {
+			res->eta[i] = res->eta[keep[i]];
+			res->length[i] = res->length[keep[i]];
+			unsigned char why = res->settled_by[i] = res->settled_by[keep[i]];
+			ss->settled_front += why == DP_SETTLE_FRONT;
+			ss->settled_medial += why == DP_SETTLE_MEDIAL;
+			ss->settled_width += why == DP_SETTLE_WIDTH;
+			ss->settled_slow += why == DP_SETTLE_SLOW;
+			ss->settled_flat += why == DP_SETTLE_FLAT;
+			ss->unsettled += why == DP_SETTLE_NONE;
+		}
+	}
+	free(keep);
+	return st;
+}
+
 /* Levels 1.. of the coarse-to-fine surface: insert, then relax at the new
  * spacing. `surface`, `skeleton` and `eta` have room for counts[levels-1]
  * rows and hold the coarse level. */
@@ -371,7 +417,12 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 			     distinct, distinct == 1 ? "" : "s", target);
 		goto fail;
 	}
-	int levels = dp_refine_levels(coarse_count, target, params->refine.level_factor, counts, DP_MAX_LEVELS);
+	/* Fewer deep points than the coarse level are a subset of it: run at
+	 * fewer, parts a sample or two thick (the demo chair's legs and back at
+	 * 1000 samples) have no normal of their own (dp_refine_params). */
+	size_t run = coarse_count > target ? coarse_count : target;
+	res->ran_with = run;
+	int levels = dp_refine_levels(coarse_count, run, params->refine.level_factor, counts, DP_MAX_LEVELS);
 	dp_wlop_params wp = params->wlop;
 	wp.samples = counts[0];
 	st = dp_wlop(ctx, input, &wp, &res->wlop, &res->wlop_stats, err);
@@ -424,7 +475,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "skeleton");
 		goto fail;
 	}
-	size_t n = target, n0 = res->wlop.n;
+	size_t n = run, n0 = res->wlop.n;
 	dp_cloud coarse = {0}, inner = {0};
 	dp_surface_stats sst = {0};
 	res->eta = dp_alloc_array(n, sizeof(float));
@@ -485,6 +536,10 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		double dx = res->surface.x[i] - res->skeleton.x[i], dy = res->surface.y[i] - res->skeleton.y[i],
 		       dz = res->surface.z[i] - res->skeleton.z[i];
 		res->length[i] = (float)sqrt(dx * dx + dy * dy + dz * dz);
+	}
+	if (run > target && (st = keep_subset(res, target, err)) != DP_OK) {
+		in_stage(err, st, "refine");
+		goto fail;
 	}
 	if ((st = dp_check_result_bounds(input, res, err)) != DP_OK)
 		goto fail;

@@ -442,3 +442,47 @@ out:
 	free(order);
 	return st;
 }
+
+static int cmp_u32(const void *a, const void *b)
+{
+	uint32_t u = *(const uint32_t *)a, v = *(const uint32_t *)b;
+	return (u > v) - (u < v);
+}
+
+dp_status dp_refine_subset(size_t n, const float *x, const float *y, const float *z, size_t m, uint32_t *keep,
+			   dp_error *err)
+{
+	if (m == 0)
+		return DP_OK;
+	if (m > n || n > UINT32_MAX)
+		return dp_fail(err, DP_ERR_ARG, "refine: a subset of %zu from %zu points", m, n);
+	/* squared distance of every point to the nearest one picked */
+	double *near = dp_alloc_array(n, sizeof *near);
+	if (!near)
+		return dp_fail(err, DP_ERR_NOMEM, "refine: out of memory choosing %zu of %zu points", m, n);
+	for (size_t i = 0; i < n; i++)
+		near[i] = INFINITY;
+	size_t pick = 0;
+	for (size_t k = 0; k < m; k++) {
+		keep[k] = (uint32_t)pick;
+		near[pick] = -1.0;
+		size_t next = pick;
+		double far = -1.0;
+		for (size_t i = 0; i < n; i++) {
+			if (near[i] < 0.0)
+				continue;
+			double dx = (double)x[i] - x[pick], dy = (double)y[i] - y[pick], dz = (double)z[i] - z[pick];
+			double d2 = dx * dx + dy * dy + dz * dz;
+			if (d2 < near[i])
+				near[i] = d2;
+			if (near[i] > far) {
+				far = near[i];
+				next = i;
+			}
+		}
+		pick = next;
+	}
+	free(near);
+	qsort(keep, m, sizeof *keep, cmp_u32);
+	return DP_OK;
+}

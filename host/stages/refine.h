@@ -4,6 +4,8 @@
 
 #include "dpoints.h"
 
+#include <stdint.h>
+
 /*
  * Grows the deep points (`surface` with normals, `skeleton` its inner ends,
  * both with room for `target` rows; their n is the count in use) towards
@@ -33,6 +35,15 @@ dp_status dp_refine_insert(dp_cloud *surface, dp_cloud *skeleton, size_t target,
  */
 dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, unsigned char *replaced, size_t *moved,
 			 dp_error *err);
+
+/*
+ * The fewer deep points of a count below the coarse level: picks `m` of the
+ * n points (x, y, z) by farthest-point sampling, from point 0, each next the
+ * one farthest from those picked, and writes their indices in ascending order
+ * to keep (m entries; m <= n). Plain O(n m) work. DP_ERR_NOMEM.
+ */
+dp_status dp_refine_subset(size_t n, const float *x, const float *y, const float *z, size_t m, uint32_t *keep,
+			   dp_error *err);
 
 /* The count of each level: `levels` (>= 1) levels from coarse to target with
  * the same growth factor each, counts[levels - 1] = target. */
