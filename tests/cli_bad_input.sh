@@ -48,6 +48,13 @@ run eval_spot eval "$bad/spot.ply" "$tmp/good.ply"
 one_error_line eval_spot 2 "$bad/spot.ply" "zero extent"
 run scan_spot scan "$bad/spot.ply" -o "$out/s.ply" --mesh-out "$out/m.ply"
 one_error_line scan_spot 2 "$bad/spot.ply" "zero extent"
+# an option out of range is said before any file is read, and names none
+run scan_views scan "$bad/spot.ply" -o "$out/s.ply" --views 0
+one_error_line scan_views 2 "views 0 outside"
+grep -q "spot.ply" "$tmp/scan_views.err" && fail "scan_views: a parameter error names the mesh: $(cat "$tmp/scan_views.err")"
+run eval_factor eval "$tmp/no-such-mesh.ply" "$tmp/good.ply" --coverage-factor -1
+one_error_line eval_factor 2 "coverage factor -1"
+grep -q "\.ply" "$tmp/eval_factor.err" && fail "eval_factor: a parameter error names a file: $(cat "$tmp/eval_factor.err")"
 # an input the pipeline cannot work with: one point repeated
 for _ in 1 2 3 4 5 6 7 8 9 10 11 12; do echo "1 2 3"; done >"$bad/same.xyz"
 run wlop_same wlop "$bad/same.xyz" -o "$out/w.ply"

@@ -29,6 +29,9 @@ int dp_cmd_eval(int argc, char **argv)
 	dp_error err = {0};
 	dp_cloud mesh = {0}, points = {0};
 	dp_eval_result r;
+	/* a bad option is no file's fault: said before reading, without a name */
+	if (dp_eval_params_check(&ep, &err) != DP_OK)
+		goto fail;
 	if (dp_cloud_read(pos[0], &mesh, DP_READ_MESH, &err) != DP_OK)
 		goto fail;
 	if (mesh.nfaces == 0) {

@@ -63,6 +63,9 @@ int dp_cmd_scan(int argc, char **argv)
 
 	dp_error err = {0};
 	dp_cloud mesh = {0}, points = {0};
+	/* a bad option is no file's fault: said before reading, without a name */
+	if (dp_scan_params_check(&sp, &err) != DP_OK)
+		goto fail;
 	if (shape_name) {
 		dp_shape shape;
 		if (dp_shape_default(shape_name, &shape, &err) != DP_OK)

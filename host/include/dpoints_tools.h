@@ -194,6 +194,9 @@ typedef struct dp_scan_params {
 } dp_scan_params;
 
 DP_API void dp_scan_params_default(dp_scan_params *p);
+/* DP_ERR_ARG when a parameter is out of range (what dp_scan checks first):
+ * lets a caller refuse them before reading a mesh. Thread-safe. */
+DP_API dp_status dp_scan_params_check(const dp_scan_params *p, dp_error *err);
 
 /*
  * Range-scans `mesh` by ray casting (BVH, first hit per ray): every view
@@ -216,6 +219,9 @@ typedef struct dp_eval_params {
 } dp_eval_params;
 
 DP_API void dp_eval_params_default(dp_eval_params *p);
+/* DP_ERR_ARG when a parameter is out of range (what dp_eval checks first).
+ * Thread-safe. */
+DP_API dp_status dp_eval_params_check(const dp_eval_params *p, dp_error *err);
 
 /* The neighbours of each point whose spread dp_eval_result.scatter_median
  * reads. */

@@ -31,16 +31,23 @@ static int cmp_double(const void *a, const void *b)
 	return (x > y) - (x < y);
 }
 
-static dp_status check_inputs(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_params *p,
-			      dp_error *err)
+dp_status dp_eval_params_check(const dp_eval_params *p, dp_error *err)
 {
-	dp_status st = dp_mesh_check(mesh, "eval", err);
-	if (st != DP_OK)
-		return st;
 	if (p->samples == 0 || p->samples > EVAL_MAX_SAMPLES)
 		return dp_fail(err, DP_ERR_ARG, "eval: samples %zu outside [1, %zu]", p->samples, EVAL_MAX_SAMPLES);
 	if (!isfinite(p->coverage_factor) || p->coverage_factor <= 0)
 		return dp_fail(err, DP_ERR_ARG, "eval: coverage factor %g must be > 0", p->coverage_factor);
+	return DP_OK;
+}
+
+static dp_status check_inputs(const dp_cloud *mesh, const dp_cloud *points, const dp_eval_params *p,
+			      dp_error *err)
+{
+	dp_status st = dp_mesh_check(mesh, "eval", err);
+	if (st == DP_OK)
+		st = dp_eval_params_check(p, err);
+	if (st != DP_OK)
+		return st;
 	if (!points || points->n < 2)
 		return dp_fail(err, DP_ERR_EMPTY, "eval: need at least 2 points, got %zu", points ? points->n : 0);
 	for (size_t i = 0; i < points->n; i++)

@@ -30,7 +30,7 @@ void dp_scan_params_default(dp_scan_params *p)
 	p->seed = 1;
 }
 
-static dp_status check_params(const dp_scan_params *p, dp_error *err)
+dp_status dp_scan_params_check(const dp_scan_params *p, dp_error *err)
 {
 	if (p->views < 1 || p->views > SCAN_MAX_VIEWS)
 		return dp_fail(err, DP_ERR_ARG, "scan: views %d outside [1, %d]", p->views, SCAN_MAX_VIEWS);
@@ -103,7 +103,7 @@ dp_status dp_scan_viewpoints(const dp_cloud *mesh, const dp_scan_params *params,
 {
 	dp_status st = dp_mesh_check(mesh, "scan", err);
 	if (st == DP_OK)
-		st = check_params(params, err);
+		st = dp_scan_params_check(params, err);
 	if (st != DP_OK)
 		return st;
 	frame f;
@@ -165,7 +165,7 @@ dp_status dp_scan(const dp_cloud *mesh, const dp_scan_params *params, dp_cloud *
 		*view_of_point = NULL;
 	dp_status st = dp_mesh_check(mesh, "scan", err);
 	if (st == DP_OK)
-		st = check_params(params, err);
+		st = dp_scan_params_check(params, err);
 	if (st != DP_OK)
 		return st;
 	frame f;
