@@ -83,6 +83,9 @@ expect_ok renderfile render "$tmp/scan.ply" -o "$tmp/pic.png" --size 64
 	cmp -s "$tmp/pic.png" "$tmp/pic_stdout.png" && [ ! -e "$tmp/-" ] && ok "render -o -: the PNG on stdout" ||
 	fail "render -o - gave another picture"
 run renderbad render "$tmp/missing.ply" -o -
+run folderstdout consolidate "$tmp/s.ply" -o -
+one_error_line folderstdout 2 "folder of files"
+[ -e "$tmp/-" ] || [ -e ./- ] && fail "consolidate -o -: made a folder named -"
 if [ -s "$tmp/renderbad.out" ]; then fail "renderbad: wrote to stdout"; else one_error_line renderbad 2 "missing.ply"; fi
 
 # XYZ columns

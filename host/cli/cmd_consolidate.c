@@ -339,6 +339,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 			cmd, cmd);
 		rc = DP_EXIT_INPUT;
 	}
+	if (!rc)
+		rc = cli_check_folder(cmd, outdir, " (--json prints the summary there)");
 	if (rc) {
 		dp_cli_list_free(&all);
 		dp_cli_list_free(&devices);

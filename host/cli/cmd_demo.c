@@ -86,7 +86,7 @@ int dp_cmd_demo(int argc, char **argv)
 			   &npos, &help);
 	if (rc || help)
 		return rc;
-	if ((rc = dp_cli_mkdir(cmd, outdir)))
+	if ((rc = cli_check_folder(cmd, outdir, "")) || (rc = dp_cli_mkdir(cmd, outdir)))
 		return rc;
 
 	dp_error err = {0};

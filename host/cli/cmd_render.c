@@ -116,7 +116,7 @@ int dp_cmd_render(int argc, char **argv)
 	int up = rp.up_axis, up_given = 0, no_caption = 0;
 	double point_size = 0.0;
 	cli_opt opts[] = {
-		{"--output", CLI_STRING, &output, "output PNG", NULL, NULL},
+		{"--output", CLI_STRING, &output, "output PNG; - for standard output", NULL, NULL},
 		{"--views", CLI_INT, &rp.views, "views side by side, orbiting the vertical axis", NULL, NULL},
 		{"--size", CLI_INT, &rp.width, "pixels per (square) view", NULL, NULL},
 		{"--up", CLI_CHOICE, &up, "vertical axis (default: z where the data is clearly taller in z than in y, else y)",

@@ -15,12 +15,12 @@ int dp_cmd_scan(int argc, char **argv)
 	const char *output = NULL, *shape_name = NULL, *mesh_out = NULL;
 	int ascii = 0, no_normals = 0, layout = (int)sp.layout, shape_res = 0;
 	cli_opt opts[] = {
-		{"--output", CLI_STRING, &output, "output PLY of the scanned points", NULL, NULL},
+		{"--output", CLI_STRING, &output, "output PLY of the scanned points; - for standard output", NULL, NULL},
 		{"--shape", CLI_STRING, &shape_name, "built-in shape: sphere, cylinder, slab, torus, knot, chair, rods",
 		 NULL, NULL},
 		{"--shape-res", CLI_INT, &shape_res, "triangulation resolution of the built-in shape (0 = its default)",
 		 NULL, NULL},
-		{"--mesh-out", CLI_STRING, &mesh_out, "also write the scanned mesh (the ground truth for eval)", NULL,
+		{"--mesh-out", CLI_STRING, &mesh_out, "also write the scanned mesh (the ground truth for eval); - for standard output", NULL,
 		 NULL},
 		{"--views", CLI_INT, &sp.views, "number of viewpoints", NULL, NULL},
 		{"--res", CLI_INT, &sp.res, "rays per view: res x res", NULL, NULL},
@@ -106,7 +106,7 @@ int dp_cmd_scan(int argc, char **argv)
 	}
 	if (*mesh_tmp && rename(mesh_tmp, mesh_out) != 0) {
 		dp_fail(&err, DP_ERR_IO, "%s: cannot move the mesh into place: %s (the scan is in %s)", mesh_out,
-			strerror(errno), output);
+			strerror(errno), to_stdout ? "standard output" : output);
 		remove(mesh_tmp);
 		goto fail;
 	}

@@ -110,7 +110,7 @@ int dp_cmd_wlop(int argc, char **argv)
 		{"--viewpoint", CLI_VEC3, run.np.viewpoint, "orient normals towards this scanner position", NULL,
 		 &run.np.use_viewpoint},
 		CLI_BACKEND_OPTS(run.backend, device),
-		{"--report", CLI_STRING, &report, "also write the summary and every parameter as JSON", NULL, NULL},
+		{"--report", CLI_STRING, &report, "also write the summary and every parameter as JSON; - for standard output", NULL, NULL},
 		{"--ascii", CLI_FLAG, &ascii, "write ascii PLY instead of binary", NULL, NULL},
 		{"--quiet", CLI_FLAG, &run.quiet, "no progress on stderr", NULL, NULL},
 		CLI_INPUT_OPTS(format, columns),

@@ -33,7 +33,7 @@ int dp_cli_write_stdout(const char *cmd, dp_status (*write)(const char *path, co
 	snprintf(path, sizeof path, "%s/dpoints-stdout-XXXXXX", dir && *dir ? dir : "/tmp");
 	int fd = mkstemp(path);
 	if (fd < 0) {
-		fprintf(stderr, "dpoints %s: -o -: cannot create a temporary file %s: %s\n", cmd, path, strerror(errno));
+		fprintf(stderr, "dpoints %s: standard output: cannot create a temporary file %s: %s\n", cmd, path, strerror(errno));
 		return DP_EXIT_FAILURE;
 	}
 	close(fd);
@@ -45,7 +45,7 @@ int dp_cli_write_stdout(const char *cmd, dp_status (*write)(const char *path, co
 	FILE *f = fopen(path, "rb");
 	int rc = 0;
 	if (!f) {
-		fprintf(stderr, "dpoints %s: -o -: cannot reopen %s: %s\n", cmd, path, strerror(errno));
+		fprintf(stderr, "dpoints %s: standard output: cannot reopen %s: %s\n", cmd, path, strerror(errno));
 		rc = DP_EXIT_FAILURE;
 	} else {
 		char buf[1 << 16];
@@ -54,7 +54,7 @@ int dp_cli_write_stdout(const char *cmd, dp_status (*write)(const char *path, co
 			if (fwrite(buf, 1, got, stdout) != got)
 				break;
 		if (ferror(f) || fflush(stdout) != 0 || ferror(stdout)) {
-			fprintf(stderr, "dpoints %s: -o -: writing to standard output failed: %s\n", cmd, strerror(errno));
+			fprintf(stderr, "dpoints %s: writing to standard output failed: %s\n", cmd, strerror(errno));
 			rc = DP_EXIT_FAILURE;
 		}
 		fclose(f);

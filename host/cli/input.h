@@ -20,7 +20,7 @@ dp_status dp_cli_read_input(const char *path, const char *format, const char *co
  * and the WLOP samples of `res` (each point takes its nearest input
  * point's). */
 dp_status dp_cli_carry_colours(const dp_cloud *in, dp_result *res, dp_error *err);
-/* `-o -`: runs `write` into a temporary file, then copies it to stdout, so a
+/* An output named `-`: runs `write` into a temporary file, then copies it to stdout, so a
  * failure writes nothing there. 0 or an exit code after one error line. */
 int dp_cli_write_stdout(const char *cmd, dp_status (*write)(const char *path, const void *arg, dp_error *err),
 			const void *arg);

@@ -47,6 +47,14 @@ int cli_is_stdout(const char *path)
 	return strcmp(path, "-") == 0;
 }
 
+int cli_check_folder(const char *cmd, const char *dir, const char *hint)
+{
+	if (!cli_is_stdout(dir))
+		return 0;
+	fprintf(stderr, "dpoints %s: -o -: the output is a folder of files, not standard output%s\n", cmd, hint);
+	return DP_EXIT_INPUT;
+}
+
 int cli_write_file(const char *cmd, const char *path, dp_status (*write)(const char *path, const void *arg, dp_error *err),
 		   const void *arg)
 {

@@ -30,6 +30,9 @@ int cli_check_folder_not_input(const char *cmd, const char *dir, const char *con
 /* Whether an output path names standard output ("-"), which scan, render and
  * wlop (its points and its report) accept for their one-file outputs. */
 int cli_is_stdout(const char *path);
+/* Refuses "-" as an output folder (consolidate, demo), `hint` ending the
+ * line. 0, or an exit code after one error line. */
+int cli_check_folder(const char *cmd, const char *dir, const char *hint);
 /* Runs `write` on `path`, or for "-" into a temporary file copied to stdout
  * (dp_cli_write_stdout). 0, or an exit code after one error line. */
 int cli_write_file(const char *cmd, const char *path, dp_status (*write)(const char *path, const void *arg, dp_error *err),

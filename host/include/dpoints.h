@@ -929,8 +929,8 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * own spacing r. Work grows about linearly with the count and the count may
  * exceed the input's (upsampling, paper Fig. 15). The coarse level holds at
  * most the input's distinct positions. A count below coarse_samples runs at
- * coarse_samples all the same and keeps a farthest-point subset of the deep
- * points (the same rows of every array of dp_result; ran_with says so): run
+ * coarse_samples all the same (at most the distinct input positions) and
+ * keeps a farthest-point subset of the deep points (the same rows of every array of dp_result; ran_with says so): run
  * at 1000, the demo chair's WLOP normals pointed 98% inwards and its surface
  * lay 0.034 diagonals off on average, kept from 4000 0.0048 (README).
  *
@@ -1040,8 +1040,11 @@ typedef struct dp_result {
 	size_t samples_turned;    /* WLOP samples' normals turned to face the scanner before sinking
 	                             (dp_surface_params.face_scanner) */
 	size_t ran_with;          /* deep points the stages ran with: the count asked for, or the coarse level's
-	                             when fewer were asked for (dp_refine_params.coarse_samples), of which the
-	                             result keeps an even subset */
+	                             when fewer were asked for (dp_refine_params.coarse_samples, at most the
+	                             distinct input positions), of which the result keeps an even subset; r,
+	                             level[], the stages' stats, even_moved, silhouette_capped and
+	                             samples_turned then describe that run, the settle counts of sink_stats the
+	                             anchors kept */
 } dp_result;
 
 /*

@@ -194,8 +194,9 @@ typedef struct dp_scan_params {
 } dp_scan_params;
 
 DP_API void dp_scan_params_default(dp_scan_params *p);
-/* DP_ERR_ARG when a parameter is out of range (what dp_scan checks first):
- * lets a caller refuse them before reading a mesh. Thread-safe. */
+/* DP_ERR_ARG when a parameter is out of range or p is NULL (what dp_scan
+ * checks first): lets a caller refuse them before reading a mesh.
+ * Thread-safe. */
 DP_API dp_status dp_scan_params_check(const dp_scan_params *p, dp_error *err);
 
 /*
@@ -219,8 +220,8 @@ typedef struct dp_eval_params {
 } dp_eval_params;
 
 DP_API void dp_eval_params_default(dp_eval_params *p);
-/* DP_ERR_ARG when a parameter is out of range (what dp_eval checks first).
- * Thread-safe. */
+/* DP_ERR_ARG when a parameter is out of range (what dp_eval checks first);
+ * NULL, dp_eval's defaults, passes. Thread-safe. */
 DP_API dp_status dp_eval_params_check(const dp_eval_params *p, dp_error *err);
 
 /* The neighbours of each point whose spread dp_eval_result.scatter_median

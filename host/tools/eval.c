@@ -33,6 +33,8 @@ static int cmp_double(const void *a, const void *b)
 
 dp_status dp_eval_params_check(const dp_eval_params *p, dp_error *err)
 {
+	if (!p)
+		return DP_OK; /* dp_eval's defaults */
 	if (p->samples == 0 || p->samples > EVAL_MAX_SAMPLES)
 		return dp_fail(err, DP_ERR_ARG, "eval: samples %zu outside [1, %zu]", p->samples, EVAL_MAX_SAMPLES);
 	if (!isfinite(p->coverage_factor) || p->coverage_factor <= 0)

@@ -32,6 +32,8 @@ void dp_scan_params_default(dp_scan_params *p)
 
 dp_status dp_scan_params_check(const dp_scan_params *p, dp_error *err)
 {
+	if (!p)
+		return dp_fail(err, DP_ERR_ARG, "scan: no parameters given");
 	if (p->views < 1 || p->views > SCAN_MAX_VIEWS)
 		return dp_fail(err, DP_ERR_ARG, "scan: views %d outside [1, %d]", p->views, SCAN_MAX_VIEWS);
 	if (p->res < 1 || p->res > SCAN_MAX_RES)

@@ -195,7 +195,8 @@ class Result:
     skeleton[i]; all arrays are float32 numpy arrays of the deep-point count n:
     surface (n, 3), normals (n, 3), skeleton (n, 3), length (n,) = |surface -
     skeleton|, eta (n,) the input support (1 where no input is near). r is the
-    mean spacing of the surface; wlop and anchors are the coarse level's WLOP
+    spacing the last surface level ran at (with fewer deep points than the
+    coarse level, that of the run they were kept from); wlop and anchors are the coarse level's WLOP
     samples and sunk anchors (Clouds), and settled (len(anchors),) uint8 says
     how each anchor stopped sinking, an index into SETTLE_WAYS; report is
     report.json as a dict."""
