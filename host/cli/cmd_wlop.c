@@ -13,6 +13,7 @@ typedef struct wlop_run {
 	dp_wlop_params wp;
 	dp_normal_params np;
 	dp_wlop_stats ws;
+	size_t dense, turned; /* dp_orient_from_denser */
 	double seconds_read, seconds_normals, seconds_write;
 	double context_start; /* seconds since the command started when the context was made */
 	int quiet;
@@ -57,6 +58,8 @@ static void fill_report(json_writer *w, const void *arg)
 	json_num(w, "last_mean_move_h", run->ws.last_mean_move);
 	json_num(w, "last_max_move_h", run->ws.last_max_move);
 	json_num(w, "pair_evaluations", run->ws.pair_evaluations);
+	json_int(w, "normals_dense_samples", (long long)run->dense);
+	json_int(w, "normals_turned", (long long)run->turned);
 	json_object(w, "seconds");
 	json_num(w, "read", run->seconds_read);
 	json_num(w, "density", run->ws.seconds_density);
@@ -171,6 +174,14 @@ int dp_cmd_wlop(int argc, char **argv)
 		rc = dp_cli_fail(cmd, &err);
 		goto done;
 	}
+	if (out.n < DP_ORIENT_DENSE_SAMPLES && !run.np.use_viewpoint)
+		wlop_step(&run, start, "orient", out.n);
+	if (dp_orient_from_denser(ctx, &in, &run.wp, &run.np, DP_ORIENT_DENSE_SAMPLES, &out, &run.dense, &run.turned,
+				  &err) != DP_OK) {
+		dp_cli_name_input(&err, run.input);
+		rc = dp_cli_fail(cmd, &err);
+		goto done;
+	}
 	run.seconds_normals = dp_seconds() - t0;
 	if (dp_transfer_attributes(&out, &in, &err) != DP_OK) {
 		dp_cli_name_input(&err, run.input);
@@ -183,10 +194,13 @@ int dp_cmd_wlop(int argc, char **argv)
 		goto done;
 	run.seconds_write = dp_seconds() - t0;
 	/* with -o - or --report - stdout is that file */
+	char signs[80] = "";
+	if (run.dense)
+		snprintf(signs, sizeof signs, " (signs from %zu denser samples, %zu turned)", run.dense, run.turned);
 	fprintf(to_stdout || report_stdout ? stderr : stdout, "wlop: %zu points in, %zu out, h = %.6g, %d iterations, %.3f s density + %.3f s iterations "
-	       "(%.4f s/iteration), normals %.3f s, %s on %s -> %s\n",
+	       "(%.4f s/iteration), normals %.3f s%s, %s on %s -> %s\n",
 	       run.points_in, out.n, run.ws.h, run.ws.iterations, run.ws.seconds_density, run.ws.seconds_iterations,
-	       run.ws.iterations ? run.ws.seconds_iterations / run.ws.iterations : 0.0, run.seconds_normals,
+	       run.ws.iterations ? run.ws.seconds_iterations / run.ws.iterations : 0.0, run.seconds_normals, signs,
 	       run.backend ? "ref" : "cl", run.device_name, run.output);
 	if (report)
 		rc = cli_write_json(cmd, report, fill_report, &run);

@@ -545,26 +545,30 @@ static PyObject *py_wlop(PyObject *self, PyObject *args)
 	progress_state ps = {callback, 0, 0};
 	dp_status st;
 	RUN_WITH_PROGRESS(ctx, ps, st, dp_wlop(ctx, &in, &params.wlop, &out, &stats, &err));
-	dp_cloud_free(&in);
-	if (st != DP_OK)
-		return stopped(&ps, &err);
-	if (normals) {
+	size_t dense = 0, turned = 0;
+	if (st == DP_OK && normals) {
 		Py_BEGIN_ALLOW_THREADS
 		st = dp_estimate_normals(&out, &params.normals, &err);
 		Py_END_ALLOW_THREADS
-		if (st != DP_OK) {
-			dp_cloud_free(&out);
-			return raise(&err);
-		}
+		if (st == DP_OK)
+			RUN_WITH_PROGRESS(ctx, ps, st,
+					  dp_orient_from_denser(ctx, &in, &params.wlop, &params.normals,
+								DP_ORIENT_DENSE_SAMPLES, &out, &dense, &turned, &err));
+	}
+	dp_cloud_free(&in);
+	if (st != DP_OK) {
+		dp_cloud_free(&out);
+		return stopped(&ps, &err);
 	}
 	PyObject *d = cloud_dict(&out);
 	dp_cloud_free(&out);
 	if (!d)
 		return NULL;
-	PyObject *s = Py_BuildValue("{s:n,s:d,s:i,s:O,s:O,s:d,s:d}", "samples", (Py_ssize_t)stats.samples, "h",
-				    stats.h, "iterations", stats.iterations, "converged",
+	PyObject *s = Py_BuildValue("{s:n,s:d,s:i,s:O,s:O,s:d,s:d,s:n,s:n}", "samples", (Py_ssize_t)stats.samples,
+				    "h", stats.h, "iterations", stats.iterations, "converged",
 				    stats.converged ? Py_True : Py_False, "stalled", stats.stalled ? Py_True : Py_False,
-				    "last_mean_move_h", stats.last_mean_move, "seconds", stats.seconds);
+				    "last_mean_move_h", stats.last_mean_move, "seconds", stats.seconds,
+				    "normals_dense_samples", (Py_ssize_t)dense, "normals_turned", (Py_ssize_t)turned);
 	if (!s || PyDict_SetItemString(d, "stats", s) < 0) {
 		Py_XDECREF(s);
 		Py_DECREF(d);
