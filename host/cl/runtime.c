@@ -147,13 +147,16 @@ dp_status dp_cl_open(dp_cl *cl, const char *spec, dp_error *err)
 	return st;
 }
 
-static void cache_release(dp_cl *cl, dp_cl_cached *c)
+/* Frees a cached buffer; the slot is empty afterwards either way. Returns
+ * clReleaseMemObject's result: on the clean-up paths nothing is left to
+ * report it to, so only an eviction in the middle of a run checks it. */
+static cl_int cache_release(dp_cl *cl, dp_cl_cached *c)
 {
-	if (c->mem)
-		clReleaseMemObject(c->mem);
+	cl_int rc = c->mem ? clReleaseMemObject(c->mem) : CL_SUCCESS;
 	free(c->shadow);
 	cl->cache_bytes -= c->bytes;
 	memset(c, 0, sizeof *c);
+	return rc;
 }
 
 void dp_cl_cache_clear(dp_cl *cl)
@@ -165,6 +168,8 @@ void dp_cl_cache_clear(dp_cl *cl)
 			cache_release(cl, &cl->cache[i]);
 }
 
+/* The releases' results go unchecked: the caller is freeing the context and
+ * has nothing left to hear a failure. */
 void dp_cl_close(dp_cl *cl)
 {
 	dp_cl_cache_clear(cl);
@@ -248,7 +253,10 @@ static dp_status cache_get(dp_cl *cl, const void *host, size_t bytes, dp_cl_cach
 	}
 	/* Free room for this buffer: unused slots go first, least recent first. */
 	while (lru && (!slot || cl->cache_bytes + bytes > DP_CL_CACHE_BYTES)) {
-		cache_release(cl, lru);
+		cl_int rc = cache_release(cl, lru);
+		if (rc != CL_SUCCESS)
+			return dp_fail(err, DP_ERR_CL, "OpenCL: clReleaseMemObject (evicting a cached buffer) failed: %s",
+				       dp_cl_error_name(rc));
 		if (!slot)
 			slot = lru;
 		lru = NULL;
