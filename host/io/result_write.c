@@ -125,6 +125,7 @@ static void json_refine_params(dp_json_writer *w, const dp_refine_params *p)
 {
 	dp_json_object(w, "refine");
 	dp_json_int(w, "coarse_samples", (long long)p->coarse_samples);
+	dp_json_int(w, "coarse_min", (long long)p->coarse_min);
 	dp_json_num(w, "level_factor", p->level_factor);
 	dp_json_int(w, "level_iters", p->level_iters);
 	dp_json_int(w, "samples_floor", (long long)p->samples_floor);

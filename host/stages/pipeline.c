@@ -8,6 +8,7 @@
 #include "stages/silhouette.h"
 #include "stages/input_check.h"
 #include "stages/surface.h"
+#include "stages/width.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -31,6 +32,7 @@ void dp_params_default(dp_params *p)
 void dp_refine_params_default(dp_refine_params *p)
 {
 	p->coarse_samples = 4000;
+	p->coarse_min = 1000;
 	p->level_factor = 4.0;
 	p->level_iters = 15;
 	p->samples_floor = 4000;
@@ -160,6 +162,81 @@ static dp_status sinking_balls(const dp_cloud *input, const dp_result *res, floa
 	free(idx);
 	free(d2);
 	return st;
+}
+
+/* A one-sided scan's coarse level may be coarser than coarse_samples where
+ * nothing is thin: no WLOP sample's width bound (width.h, at the sinking's
+ * factor; 2, 4, 8, 16 or 32 r, or none) within this many r. At 1000 samples
+ * the demo chair's legs, the bunny's ears and feet and a one-view torus's
+ * tube (4 r across) all bound at 16 r or less, and completing the torus
+ * from there left its surface 0.032-0.045 of the tube's radius off against
+ * 0.012-0.040 from 4000 (bench_quality_sizes); a one-view sphere of radius
+ * 19 r bounds at 32 r and fills its far side from 1000 or 2000 (README
+ * (42)). */
+#define COARSE_THIN_R 16.0
+
+/* Whether any of the samples `s` lies in a part thinner than COARSE_THIN_R r. */
+static dp_status any_thin(const dp_cloud *s, double factor, int *thin, dp_error *err)
+{
+	double r = 0.0;
+	float *bound = dp_alloc_array(s->n, sizeof *bound);
+	if (!bound)
+		return dp_fail(err, DP_ERR_NOMEM, "out of memory for %zu width bounds", s->n);
+	dp_status st = dp_mean_spacing(s->n, s->x, s->y, s->z, &r, err);
+	if (st == DP_OK)
+		st = dp_width_bound(s->n, s->x, s->y, s->z, r, factor, bound, err);
+	*thin = 0;
+	/* the bounds are scale / 2 exactly: 2 r, 4 r, ... */
+	for (size_t i = 0; st == DP_OK && i < s->n && !*thin; i++)
+		*thin = bound[i] <= (float)(COARSE_THIN_R * r) * 1.001f;
+	free(bound);
+	return st;
+}
+
+/* Whether the samples `s` (with normals) are a scan taken from one side
+ * (scanner.h): a whole side to complete. */
+static dp_status one_sided(const dp_cloud *s, const dp_surface_params *p, int *side, dp_error *err)
+{
+	float axis[3];
+	int found = 0;
+	double grazing = 0.0, r = 0.0;
+	*side = 0;
+	dp_silhouette_pick(p->silhouette_axis, s->n, s->nx, s->ny, s->nz, p->silhouette_grazing, &found, axis, &grazing);
+	if (!found)
+		return DP_OK;
+	dp_status st = dp_mean_spacing(s->n, s->x, s->y, s->z, &r, err);
+	if (st == DP_OK)
+		st = dp_scanner_side(s->n, s->x, s->y, s->z, s->nx, s->ny, s->nz, axis, p->face_scanner_cos, r, side, err);
+	return st;
+}
+
+/* A coarser coarse level for a scan taken from one side, whose whole far
+ * side is to be completed: WLOP at coarse_min, doubling while below
+ * `count`, until no sample lies in a part thinner than COARSE_THIN_R r. The
+ * first such samples go to `coarser` (zeroed when there are none) and their
+ * count to *chosen (0: none). Complete shapes keep the coarse level they
+ * had: with nothing to fill, a coarser one only loses detail (a slab 3.6 r
+ * thick at 1000, a plate, which the width bound does not see: 0.69 of its
+ * mid-plane against all of it). */
+static dp_status coarser_level(dp_context *ctx, const dp_cloud *input, const dp_params *params, size_t count,
+			       dp_cloud *coarser, dp_wlop_stats *ws, size_t *chosen, dp_error *err)
+{
+	*chosen = 0;
+	double factor = params->sink.width_factor > 0.0 ? params->sink.width_factor : 2.0;
+	dp_wlop_params wp = params->wlop;
+	for (size_t c = params->refine.coarse_min; c && c < count; c *= 2) {
+		int thin = 1;
+		wp.samples = c;
+		dp_status st = dp_wlop(ctx, input, &wp, coarser, ws, err);
+		if (st == DP_OK)
+			st = any_thin(coarser, factor, &thin, err);
+		if (st != DP_OK || !thin) {
+			*chosen = st == DP_OK ? c : 0;
+			return st;
+		}
+		dp_cloud_free(coarser);
+	}
+	return DP_OK;
 }
 
 /* Moves rows keep[0..m) (ascending) of the cloud's arrays to the front. */
@@ -421,7 +498,6 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	 * fewer, parts a sample or two thick (the demo chair's legs and back at
 	 * 1000 samples) have no normal of their own (dp_refine_params). */
 	size_t run = coarse_count > target ? coarse_count : target;
-	res->ran_with = run;
 	int levels = dp_refine_levels(coarse_count, run, params->refine.level_factor, counts, DP_MAX_LEVELS);
 	dp_wlop_params wp = params->wlop;
 	wp.samples = counts[0];
@@ -433,9 +509,35 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 
 	double t0 = dp_seconds();
 	st = dp_estimate_normals(&res->wlop, &params->normals, err);
-	res->seconds_normals = dp_seconds() - t0;
 	if (st != DP_OK)
 		goto fail_normals;
+	int one_side = 0;
+	if (coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count &&
+	    !params->normals.use_viewpoint && (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
+		goto fail_normals;
+	if (one_side) {
+		dp_cloud coarser = {0};
+		dp_wlop_stats ws = {0};
+		size_t chosen = 0;
+		st = coarser_level(ctx, input, params, coarse_count, &coarser, &ws, &chosen, err);
+		if (st == DP_OK && chosen)
+			st = dp_estimate_normals(&coarser, &params->normals, err);
+		if (st != DP_OK) {
+			dp_cloud_free(&coarser);
+			in_stage(err, st, "wlop");
+			goto fail;
+		}
+		if (chosen) {
+			dp_cloud_free(&res->wlop);
+			res->wlop = coarser;
+			res->wlop_stats = ws;
+			coarse_count = chosen;
+			run = coarse_count > target ? coarse_count : target;
+			levels = dp_refine_levels(coarse_count, run, params->refine.level_factor, counts, DP_MAX_LEVELS);
+		}
+	}
+	res->ran_with = run;
+	res->seconds_normals = dp_seconds() - t0;
 	st = dp_mean_spacing(res->wlop.n, res->wlop.x, res->wlop.y, res->wlop.z, &res->r, err);
 	if (st == DP_OK && !(res->r > 0.0))
 		st = dp_fail(err, DP_ERR_EMPTY, "%zu WLOP sample%s: no spacing r to work in", res->wlop.n,
