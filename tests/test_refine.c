@@ -373,6 +373,12 @@ static void test_coarser_level(void **state)
 		} else {
 			assert_true(res.level[0].points >= coarse - 1); /* distinct positions */
 		}
+		if (c == 0) {
+			/* a level of a few points has no surface to grow from */
+			dp_result bad = {0};
+			p.refine.coarse_min = 4;
+			assert_int_equal(dp_consolidate(tk_cl_context(), &scan, &p, &bad, &err), DP_ERR_ARG);
+		}
 		dp_result_free(&res);
 		dp_cloud_free(&mesh);
 		dp_cloud_free(&scan);

@@ -249,8 +249,8 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--coarse-samples", CLI_COUNT, &p->refine.coarse_samples,
 		 "deep points of the coarse level (0 = no coarse-to-fine)", NULL, NULL},
 		{"--coarse-min", CLI_COUNT, &p->refine.coarse_min,
-		 "the coarse level may be as coarse as this (doubling up to --coarse-samples) where no part is "
-		 "thinner than 4 r (0 = always --coarse-samples)", NULL, NULL},
+		 "a one-sided scan's coarse level may be as coarse as this (doubling up to --coarse-samples) where no "
+		 "part is thinner than 16 r (0 = always --coarse-samples)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
 		 NULL},
 		{"--level-iters", CLI_INT, &p->refine.level_iters, "surface iterations per refined level", NULL, NULL},

@@ -955,13 +955,13 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * and relaxes the whole set for level_iters surface iterations at the level's
  * own spacing r. Work grows about linearly with the count and the count may
  * exceed the input's (upsampling, paper Fig. 15). The coarse level holds at
- * most the input's distinct positions. A count below coarse_samples runs at
- * coarse_samples all the same (at most the distinct input positions) and
- * keeps a farthest-point subset of the deep points (the same rows of every array of dp_result; ran_with says so): run
- * at 1000, the demo chair's WLOP normals pointed 98% inwards and its surface
- * lay 0.034 diagonals off on average, kept from 4000 0.0048 (README). A
- * scan taken from one side with no thin part may run a coarser coarse level
- * (coarse_min), whose far side then fills sooner.
+ * most the input's distinct positions. A scan taken from one side with no
+ * thin part may run a coarser coarse level (coarse_min), whose far side then
+ * fills sooner. A count below the coarse level runs at the coarse level all
+ * the same and keeps a farthest-point subset of the deep points (the same
+ * rows of every array of dp_result; ran_with says so): run at 1000, the demo
+ * chair's WLOP normals pointed 98% inwards and its surface lay 0.034
+ * diagonals off on average, kept from 4000 0.0048 (README).
  *
  * The data term holds the points on the scanned part while only repulsion
  * feeds the completed part, so the completed part ends up sparser: on the
@@ -996,7 +996,10 @@ typedef struct dp_refine_params {
 	                             normals) may have a coarser coarse level, down to this, doubling up to
 	                             coarse_samples: the first whose WLOP samples show no part thinner than 16 r
 	                             (no sample's width bound, sinking's step 1c, within 16 r). Fewer points
-	                             across its far side fill it sooner. 0 = always coarse_samples; default 1000
+	                             across its far side fill it sooner. A side given (surface.scanner_side)
+	                             counts as one-sided. The WLOP runs it tries count in seconds_total only
+	                             (wlop_stats are the chosen level's). 0 = always coarse_samples, else at
+	                             least 32; default 1000
 	                             (one-view sphere at 2000 / 8000 / 32000 deep points covered 0.959 / 0.997 /
 	                             0.984 from 4000, 1.000 each from 2000; README (42)) */
 	double level_factor;      /* count growth per level, > 1 (midpoint insertion adds up to about 3 points
@@ -1076,8 +1079,9 @@ typedef struct dp_result {
 	size_t samples_turned;    /* WLOP samples' normals turned to face the scanner before sinking
 	                             (dp_surface_params.face_scanner) */
 	size_t ran_with;          /* deep points the stages ran with: the count asked for, or the coarse level's
-	                             when fewer were asked for (dp_refine_params.coarse_samples, at most the
-	                             distinct input positions), of which the result keeps an even subset; r,
+	                             when fewer were asked for (level[0].points: dp_refine_params.coarse_samples
+	                             at most the distinct input positions, or coarse_min's choice), of which the
+	                             result keeps an even subset; r,
 	                             level[], the stages' stats, even_moved, silhouette_capped and
 	                             samples_turned then describe that run, the settle counts of sink_stats the
 	                             anchors kept */

@@ -46,6 +46,9 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 	if (!(p->refine.level_factor > 1.0 && isfinite(p->refine.level_factor)) || p->refine.level_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "level factor %g (must be > 1) or level iterations %d (must be >= 1) "
 			       "out of range", p->refine.level_factor, p->refine.level_iters);
+	if (p->refine.coarse_min && p->refine.coarse_min < MIN_COARSE_SAMPLES)
+		return dp_fail(err, DP_ERR_ARG, "coarsest coarse level %zu: 0 or at least %d", p->refine.coarse_min,
+			       MIN_COARSE_SAMPLES);
 	if (p->refine.even_rounds < 0 || p->refine.even_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "even-spacing rounds %d (must be >= 0) or iterations %d (must be >= 1) "
 			       "out of range", p->refine.even_rounds, p->refine.even_iters);
@@ -509,22 +512,26 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 
 	double t0 = dp_seconds();
 	st = dp_estimate_normals(&res->wlop, &params->normals, err);
+	res->seconds_normals = dp_seconds() - t0;
 	if (st != DP_OK)
 		goto fail_normals;
-	int one_side = 0;
-	if (coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count &&
-	    !params->normals.use_viewpoint && (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
+	int one_side = params->surface.scanner_side;
+	if (!one_side && coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count &&
+	    (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
 		goto fail_normals;
-	if (one_side) {
+	if (one_side && coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count) {
 		dp_cloud coarser = {0};
 		dp_wlop_stats ws = {0};
 		size_t chosen = 0;
 		st = coarser_level(ctx, input, params, coarse_count, &coarser, &ws, &chosen, err);
-		if (st == DP_OK && chosen)
+		if (st == DP_OK && chosen) {
+			t0 = dp_seconds();
 			st = dp_estimate_normals(&coarser, &params->normals, err);
+			res->seconds_normals += dp_seconds() - t0;
+		}
 		if (st != DP_OK) {
 			dp_cloud_free(&coarser);
-			in_stage(err, st, "wlop");
+			in_stage(err, st, "coarse level");
 			goto fail;
 		}
 		if (chosen) {
@@ -537,7 +544,6 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		}
 	}
 	res->ran_with = run;
-	res->seconds_normals = dp_seconds() - t0;
 	st = dp_mean_spacing(res->wlop.n, res->wlop.x, res->wlop.y, res->wlop.z, &res->r, err);
 	if (st == DP_OK && !(res->r > 0.0))
 		st = dp_fail(err, DP_ERR_EMPTY, "%zu WLOP sample%s: no spacing r to work in", res->wlop.n,
