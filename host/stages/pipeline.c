@@ -173,9 +173,9 @@ static dp_status sinking_balls(const dp_cloud *input, const dp_result *res, floa
  * the demo chair's legs, the bunny's ears and feet and a one-view torus's
  * tube (4 r across) all bound at 16 r or less, and completing the torus
  * from there left its surface 0.032-0.045 of the tube's radius off against
- * 0.012-0.040 from 4000 (bench_quality_sizes); a one-view sphere of radius
- * 19 r bounds at 32 r and fills its far side from 1000 or 2000 (README
- * (42)). */
+ * 0.012-0.040 from 4000 (bench_quality_sizes); a one-view sphere 13 to 16 r
+ * in radius there bounds at 32 r or nowhere and fills its far side from
+ * 1000 (README (42)). */
 #define COARSE_THIN_R 16.0
 
 /* Whether any of the samples `s` lies in a part thinner than COARSE_THIN_R r. */
@@ -515,11 +515,11 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	res->seconds_normals = dp_seconds() - t0;
 	if (st != DP_OK)
 		goto fail_normals;
+	int coarser_ok = coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count;
 	int one_side = params->surface.scanner_side;
-	if (!one_side && coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count &&
-	    (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
+	if (coarser_ok && !one_side && (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
 		goto fail_normals;
-	if (one_side && coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count) {
+	if (coarser_ok && one_side) {
 		dp_cloud coarser = {0};
 		dp_wlop_stats ws = {0};
 		size_t chosen = 0;
