@@ -9,20 +9,21 @@
 #include <string.h>
 #include <sys/stat.h>
 
+/* Whether two paths name one existing file. */
+static int same_file(const char *a, const char *b)
+{
+	struct stat sa, sb;
+	return stat(a, &sa) == 0 && stat(b, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+}
+
 int cli_check_not_input(const char *cmd, const char *output, const char *const *inputs, size_t ninputs)
 {
-	struct stat out;
-	/* an output that does not exist yet cannot be an input */
-	if (stat(output, &out) != 0)
-		return 0;
-	for (size_t i = 0; i < ninputs; i++) {
-		struct stat in;
-		if (stat(inputs[i], &in) == 0 && in.st_dev == out.st_dev && in.st_ino == out.st_ino) {
+	for (size_t i = 0; i < ninputs; i++)
+		if (same_file(output, inputs[i])) {
 			fprintf(stderr, "dpoints %s: %s: the output is the input file %s; choose another output\n", cmd,
 				output, inputs[i]);
 			return DP_EXIT_INPUT;
 		}
-	}
 	return 0;
 }
 
@@ -42,11 +43,8 @@ int cli_check_folder_not_input(const char *cmd, const char *dir, const char *con
  * the same existing file, or the same name in the same existing folder. */
 static int same_output(const char *a, const char *b)
 {
-	if (strcmp(a, b) == 0)
+	if (strcmp(a, b) == 0 || same_file(a, b))
 		return 1;
-	struct stat sa, sb;
-	if (stat(a, &sa) == 0 && stat(b, &sb) == 0)
-		return sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
 	char ca[4096], cb[4096];
 	snprintf(ca, sizeof ca, "%s", a);
 	snprintf(cb, sizeof cb, "%s", b);
@@ -54,8 +52,7 @@ static int same_output(const char *a, const char *b)
 		return 0;
 	snprintf(ca, sizeof ca, "%s", a);
 	snprintf(cb, sizeof cb, "%s", b);
-	const char *da = dirname(ca), *db = dirname(cb);
-	return stat(da, &sa) == 0 && stat(db, &sb) == 0 && sa.st_dev == sb.st_dev && sa.st_ino == sb.st_ino;
+	return same_file(dirname(ca), dirname(cb));
 }
 
 int cli_check_distinct_outputs(const char *cmd, const char *a, const char *b)
