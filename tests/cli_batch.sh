@@ -28,9 +28,9 @@ grep -q '1 of 3 inputs failed' "$tmp/batch.err" || fail "batch: no failure count
 grep -qF "[2/3] $tmp/bad.xyz" "$tmp/batch.err" || fail "batch: no per-input progress on stderr"
 # the table: a header, one row per input in order, a totals line
 if msg=$(py '
-import sys
+import json, sys
 lines = open(sys.argv[1]).read().split("\n")
-start = next((i for i, l in enumerate(lines) if l.split()[:3] == ["input", "points", "dpoints"]), None)
+start = next((i for i, l in enumerate(lines) if l.split()[:4] == ["input", "points", "dpoints", "run"]), None)
 if start is None:
     sys.exit("no summary table on stdout")
 rows = lines[start + 1:start + 4]
@@ -41,10 +41,14 @@ for row, (name, state) in zip(rows, want):
         sys.exit("table row %r, expected %s %s" % (row, name, state))
     if state == "ok" and t[2] != "150":
         sys.exit("table row %r: not 150 deep points" % row)
+if [t[3] for t in (rows[0].split(), rows[2].split())] != [
+        str(json.load(open(sys.argv[5] + "/" + d + "/report.json"))["results"]["deep_points_run"])
+        for d in ("scan", "scan-3")]:
+    sys.exit("the run column is not deep_points_run of the reports: %r" % rows)
 if not lines[start + 4].startswith("3 inputs: 2 ok, 1 failed"):
     sys.exit("no totals line: %r" % lines[start + 4])
 print("\n".join(lines[start:start + 5]))
-' "$tmp/batch.out" "$tmp/a/scan.ply" "$tmp/bad.xyz" "$tmp/b/scan.ply" 2>&1); then
+' "$tmp/batch.out" "$tmp/a/scan.ply" "$tmp/bad.xyz" "$tmp/b/scan.ply" "$tmp/out" 2>&1); then
 	ok "summary table:"
 	echo "$msg"
 else

@@ -114,12 +114,15 @@ if b["status"] != "failed" or "non-finite" not in b["error"]:
     sys.exit("bad row %r" % b)
 if s["status"] != "ok" or s["error"] is not None or s["deep_points"] != 300 or s["points"] <= 0:
     sys.exit("ok row %r" % s)
+run = json.load(open(sys.argv[2] + "/sphere/report.json"))["results"]["deep_points_run"]
+if s["deep_points_run"] != run or run < 300:
+    sys.exit("deep_points_run %r, the report has %r" % (s["deep_points_run"], run))
 for k in ("wlop", "normals", "sink", "skeleton", "surface", "total"):
     if not s["seconds"][k] >= 0:
         sys.exit("seconds %r" % s["seconds"])
 if set(s["stop"]) != {"wlop", "sink", "skeleton", "surface"} or not set(s["stop"].values()) <= {"converged", "stalled", "settled", "cap"}:
     sys.exit("stop %r" % s["stop"])
-' "$tmp/sumbad.out" 2>&1); then ok "summary --json: a failed and an ok row, exit 1"; else fail "summary --json: status $status: ${msg:-}"; fi
+' "$tmp/sumbad.out" "$tmp/withbad" 2>&1); then ok "summary --json: a failed and an ok row, exit 1"; else fail "summary --json: status $status: ${msg:-}"; fi
 # a later success clears the record
 expect_ok fixed consolidate "$tmp/scans/sphere.ply" "$tmp/scans/torus.ply" -o "$tmp/withbad" "${opts[@]}" &&
 	[ -e "$tmp/withbad/bad.failed.json" ] && ok "a record of another input stays" || fail "record vanished"

@@ -24,6 +24,14 @@ static const char *stop_reason(const dp_json *report, int k)
 	return k == 0 && dp_json_number(report, "results.wlop.stalled", 0) ? "stalled" : "converged";
 }
 
+/* The count the stages ran at; reports written before 0.10 have only the
+ * count kept, which was the count run. */
+static double deep_points_run(const dp_json *report)
+{
+	double kept = dp_json_number(report, "results.deep_points", 0);
+	return dp_json_number(report, "results.deep_points_run", kept);
+}
+
 static double stage_seconds(const dp_json *report, int k)
 {
 	char path[64];
@@ -45,8 +53,9 @@ void dp_cli_summary_row_json(FILE *f, const dp_json *report, const char *input, 
 	fputs(",\"error\":", f);
 	dp_json_write_string(f, error);
 	if (report) {
-		fprintf(f, ",\"points\":%.0f,\"deep_points\":%.0f,\"seconds\":{",
-			dp_json_number(report, "results.points_in", 0), dp_json_number(report, "results.deep_points", 0));
+		fprintf(f, ",\"points\":%.0f,\"deep_points\":%.0f,\"deep_points_run\":%.0f,\"seconds\":{",
+			dp_json_number(report, "results.points_in", 0), dp_json_number(report, "results.deep_points", 0),
+			deep_points_run(report));
 		for (int k = 0; k < 5; k++)
 			fprintf(f, "\"%s\":%.6g,", stages[k], stage_seconds(report, k));
 		fprintf(f, "\"total\":%.6g},\"stop\":{", dp_json_number(report, "results.seconds_total", 0));
@@ -198,8 +207,8 @@ int dp_cmd_summary(int argc, char **argv)
 			dwidth = (int)strlen(dev);
 	}
 	if (!as_json)
-		printf("%-*s %8s %8s %-*s %34s %8s %-24s  %s\n", width, "input", "points", "dpoints", dwidth, "device",
-		       "seconds wlop/normals/sink/skel/surf", "total", "capped", "status");
+		printf("%-*s %8s %8s %8s %-*s %34s %8s %-24s  %s\n", width, "input", "points", "dpoints", "run", dwidth,
+		       "device", "seconds wlop/normals/sink/skel/surf", "total", "capped", "status");
 	size_t ok = 0, failed = 0;
 	double total = 0;
 	for (size_t i = 0; i < list.n; i++) {
@@ -219,7 +228,7 @@ int dp_cmd_summary(int argc, char **argv)
 			continue;
 		}
 		if (!good) {
-			printf("%-*s %8s %8s %-*s %34s %8s %-24s  FAILED: %s\n", width, in, "-", "-", dwidth,
+			printf("%-*s %8s %8s %8s %-*s %34s %8s %-24s  FAILED: %s\n", width, in, "-", "-", "-", dwidth,
 			       short_device(dev), "-", "-", "-", error);
 			continue;
 		}
@@ -234,9 +243,9 @@ int dp_cmd_summary(int argc, char **argv)
 		}
 		double t = dp_json_number(doc, "results.seconds_total", 0);
 		total += t;
-		printf("%-*s %8.0f %8.0f %-*s %34s %8.2f %-24s  ok\n", width, in,
-		       dp_json_number(doc, "results.points_in", 0), dp_json_number(doc, "results.deep_points", 0), dwidth,
-		       short_device(dev), secs, t, *capped ? capped : "-");
+		printf("%-*s %8.0f %8.0f %8.0f %-*s %34s %8.2f %-24s  ok\n", width, in,
+		       dp_json_number(doc, "results.points_in", 0), dp_json_number(doc, "results.deep_points", 0),
+		       deep_points_run(doc), dwidth, short_device(dev), secs, t, *capped ? capped : "-");
 	}
 	if (!as_json)
 		printf("%zu input%s: %zu ok, %zu failed; %.2f s in the pipeline\n", list.n, list.n == 1 ? "" : "s", ok,

@@ -24,6 +24,7 @@ typedef struct dp_consolidate_summary {
 	int ok;
 	char error[DP_ERROR_MESSAGE_MAX];
 	size_t points_in, points_out;
+	size_t points_run; /* the count the stages ran at: above points_out when those were kept from it */
 	double r, seconds;
 	int iterations[4]; /* wlop, sink, skeleton, surface */
 	char capped[64];   /* the stages that stopped at their iteration cap, comma-separated, or "-" */

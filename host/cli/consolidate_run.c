@@ -78,6 +78,7 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 		goto fail_rc;
 	summary->ok = 1;
 	summary->points_out = res->surface.n;
+	summary->points_run = res->ran_with;
 	summary->r = res->r;
 	summary->seconds = res->seconds_total;
 	summary->iterations[0] = res->wlop_stats.iterations;
@@ -140,8 +141,8 @@ void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_c
 	}
 	size_t ok = 0, skipped = 0;
 	double seconds = 0.0;
-	fprintf(out, "\n%-*s %8s %8s %10s %18s %8s %-24s %-*s  %s\n", width, "input", "points", "dpoints", "r",
-		"iters w/s/k/s", "seconds", "capped", dwidth, "device", "status");
+	fprintf(out, "\n%-*s %8s %8s %8s %10s %18s %8s %-24s %-*s  %s\n", width, "input", "points", "dpoints", "run",
+		"r", "iters w/s/k/s", "seconds", "capped", dwidth, "device", "status");
 	for (size_t i = 0; i < n; i++) {
 		const dp_consolidate_summary *s = &rows[i];
 		const char *device = s->device[0] ? s->device : "-";
@@ -149,17 +150,17 @@ void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_c
 			char iters[64];
 			snprintf(iters, sizeof iters, "%d/%d/%d/%d", s->iterations[0], s->iterations[1],
 				 s->iterations[2], s->iterations[3]);
-			fprintf(out, "%-*s %8zu %8zu %10.4g %18s %8.2f %-24s %-*s  ok\n", width, inputs[i], s->points_in,
-				s->points_out, s->r, iters, s->seconds, s->capped, dwidth, device);
+			fprintf(out, "%-*s %8zu %8zu %8zu %10.4g %18s %8.2f %-24s %-*s  ok\n", width, inputs[i],
+				s->points_in, s->points_out, s->points_run, s->r, iters, s->seconds, s->capped, dwidth, device);
 			ok++;
 			seconds += s->seconds;
 		} else if (s->skipped) {
-			fprintf(out, "%-*s %8s %8s %10s %18s %8s %-24s %-*s  skipped: done before\n", width, inputs[i], "-",
-				"-", "-", "-", "-", "-", dwidth, "-");
+			fprintf(out, "%-*s %8s %8s %8s %10s %18s %8s %-24s %-*s  skipped: done before\n", width, inputs[i],
+				"-", "-", "-", "-", "-", "-", "-", dwidth, "-");
 			skipped++;
 		} else {
-			fprintf(out, "%-*s %8s %8s %10s %18s %8s %-24s %-*s  FAILED: %s\n", width, inputs[i], "-", "-", "-",
-				"-", "-", "-", dwidth, device, s->error);
+			fprintf(out, "%-*s %8s %8s %8s %10s %18s %8s %-24s %-*s  FAILED: %s\n", width, inputs[i], "-", "-",
+				"-", "-", "-", "-", "-", dwidth, device, s->error);
 		}
 	}
 	fprintf(out, "%zu input%s: %zu ok, %zu failed", n, n == 1 ? "" : "s", ok, n - ok - skipped);

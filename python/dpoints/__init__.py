@@ -198,8 +198,9 @@ class Result:
     spacing the last surface level ran at (with fewer deep points than the
     coarse level, that of the run they were kept from); wlop and anchors are the coarse level's WLOP
     samples and sunk anchors (Clouds), and settled (len(anchors),) uint8 says
-    how each anchor stopped sinking, an index into SETTLE_WAYS; report is
-    report.json as a dict."""
+    how each anchor stopped sinking, an index into SETTLE_WAYS;
+    deep_points_run is the count the stages ran at (above n when these were
+    kept from a coarse level); report is report.json as a dict."""
 
     def __init__(self, capsule, points):
         self._capsule = capsule
@@ -217,6 +218,7 @@ class Result:
         self.settled = _array(a["settled"], np.uint8, (-1,))
         self.r = a["r"]
         self.report = json.loads(_dpoints.result_report(capsule, None))
+        self.deep_points_run = self.report["results"]["deep_points_run"]
 
     def __len__(self):
         return len(self.surface)
