@@ -290,7 +290,7 @@ typedef struct dp_wlop_params {
 	double h;              /* support radius; <= 0 = h_factor * mean NN spacing of the initial samples */
 	double h_factor;       /* default 5 */
 	double mu;             /* repulsion weight, in [0, 0.5); default 0.45 */
-	int max_iters;         /* >= 0; default 100 */
+	int max_iters;         /* >= 0; default 200 */
 	double tol;            /* stop when the mean move of an iteration < tol * h; default 0.002
 	                          (the largest move never settles on real scans: host/stages/wlop.c) */
 	double stall_tol;      /* ... or when it is < stall_tol * h and fell by less than min_drop over the last
