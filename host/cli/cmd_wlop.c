@@ -32,8 +32,11 @@ static int wlop_progress(void *user, const char *stage, int iteration, double va
  * first WLOP iteration, so an input or device error stays one line. */
 static void wlop_step(const wlop_run *run, double start, const char *step, size_t points)
 {
-	if (!run->quiet)
-		fprintf(stderr, "  [%7.1f s] %-9s %zu points\n", dp_seconds() - start, step, points);
+	if (run->quiet)
+		return;
+	/* the WLOP run before it has ended: its line first */
+	dp_cli_progress_end(NULL, 1);
+	fprintf(stderr, "  [%7.1f s] %-9s %zu points\n", dp_seconds() - start, step, points);
 }
 
 static void fill_report(json_writer *w, const void *arg)

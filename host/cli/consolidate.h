@@ -57,7 +57,8 @@ typedef struct dp_cli_progress_state {
 } dp_cli_progress_state;
 int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
 /* The end line of the last stage, after the pipeline returned (`ok`: it
- * finished; otherwise nothing is printed); readies `st` for the next input. */
+ * finished; otherwise nothing is printed); readies `st` (NULL: the printer of
+ * dp_cli_progress calls with no state) for the next input. */
 void dp_cli_progress_end(dp_cli_progress_state *st, int ok);
 /* mkdir -p; 0 or an exit code after one error line. */
 int dp_cli_mkdir(const char *cmd, const char *dir);

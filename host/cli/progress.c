@@ -11,7 +11,7 @@ static int cap_of(const dp_cli_progress_state *st, const char *stage)
 	const dp_params *p = st->params;
 	if (!p)
 		return 0;
-	if (strcmp(stage, "wlop") == 0)
+	if (strcmp(stage, "wlop") == 0 || strcmp(stage, "coarser") == 0 || strcmp(stage, "denser") == 0)
 		return p->wlop.max_iters;
 	if (strcmp(stage, "sink") == 0)
 		return p->sink.max_iters;
@@ -32,8 +32,8 @@ static const char *label(const dp_cli_progress_state *st, char *buf, size_t size
 		snprintf(buf, size, "level %d", st->runs - 1);
 		return buf;
 	}
-	if (strcmp(st->stage, "even") == 0) {
-		snprintf(buf, size, "even %d", st->runs);
+	if (strcmp(st->stage, "even") == 0 || strcmp(st->stage, "coarser") == 0) {
+		snprintf(buf, size, "%s %d", st->stage, st->runs);
 		return buf;
 	}
 	return st->stage;
@@ -62,9 +62,11 @@ static void end_line(const dp_cli_progress_state *st)
 			label(st, name, sizeof name), st->iteration);
 }
 
+/* The printer of callers that pass no state of their own (NULL). */
+static dp_cli_progress_state process;
+
 int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
 {
-	static dp_cli_progress_state process;
 	dp_cli_progress_state *st = user ? user : &process;
 	int fresh = stage != st->stage || iteration < st->iteration;
 	if (fresh && st->stage)
@@ -89,7 +91,7 @@ int dp_cli_progress(void *user, const char *stage, int iteration, double value, 
 	const char *pre = st->prefix, *shown = label(st, name, sizeof name);
 	if (strcmp(stage, "sink") == 0)
 		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %s, %.0f settled\n", pre, elapsed, shown, it, value);
-	else if (strcmp(stage, "wlop") == 0)
+	else if (strcmp(stage, "wlop") == 0 || strcmp(stage, "coarser") == 0 || strcmp(stage, "denser") == 0)
 		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %s, mean move %.4f h\n", pre, elapsed, shown, it, value);
 	else
 		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %s, mean move %.4f r\n", pre, elapsed, shown, it, value);
@@ -98,6 +100,8 @@ int dp_cli_progress(void *user, const char *stage, int iteration, double value, 
 
 void dp_cli_progress_end(dp_cli_progress_state *st, int ok)
 {
+	if (!st)
+		st = &process;
 	if (ok && st->stage)
 		end_line(st);
 	st->stage = NULL;

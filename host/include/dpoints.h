@@ -195,9 +195,14 @@ DP_API dp_backend_kind dp_context_backend(const dp_context *ctx);
 
 /*
  * Called after every iteration of a long stage with the stage name ("wlop",
- * "sink", "skeleton", "surface"), the iteration (from 1), a stage-specific
- * value (sink: settled points; skeleton and surface: mean move in r; WLOP:
- * mean move in h) and the seconds since the context was created. Runs on the
+ * "sink", "skeleton", "surface"; each refined level is another "surface"
+ * run; "even" the even-spacing rounds; "coarser" the WLOP runs of the coarser
+ * coarse levels a one-sided scan tries, dp_refine_params.coarse_min, the
+ * last of them kept when any is; "denser" the WLOP samples that
+ * dp_orient_from_denser takes signs from), the iteration (from 1), a
+ * stage-specific value (sink: settled points; skeleton, surface and even:
+ * mean move in r; WLOP runs: mean move in h) and the seconds since the
+ * context was created. Runs on the
  * thread that called the stage, between iterations (an iteration of a large
  * input may take seconds, so a stop takes effect within one).
  * Return 0 to go on; any other value stops the running call, which frees

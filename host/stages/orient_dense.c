@@ -3,6 +3,7 @@
 #include "core/common.h"
 #include "core/distinct.h"
 #include "knn/knn.h"
+#include "stages/wlop.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -86,7 +87,7 @@ dp_status dp_orient_from_denser(dp_context *ctx, const dp_cloud *input, const dp
 		goto done;
 	}
 	wp.samples = run;
-	if ((st = dp_wlop(ctx, input, &wp, &guide, NULL, err)) == DP_OK &&
+	if ((st = dp_wlop_as(ctx, "denser", input, &wp, &guide, NULL, err)) == DP_OK &&
 	    (st = dp_estimate_normals(&guide, &np, err)) == DP_OK)
 		st = agree_with(samples, &guide, &flips, err);
 done:

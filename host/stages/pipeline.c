@@ -9,6 +9,7 @@
 #include "stages/input_check.h"
 #include "stages/surface.h"
 #include "stages/width.h"
+#include "stages/wlop.h"
 
 #include <math.h>
 #include <stdlib.h>
@@ -230,7 +231,7 @@ static dp_status coarser_level(dp_context *ctx, const dp_cloud *input, const dp_
 	for (size_t c = params->refine.coarse_min; c && c < count; c *= 2) {
 		int thin = 1;
 		wp.samples = c;
-		dp_status st = dp_wlop(ctx, input, &wp, coarser, ws, err);
+		dp_status st = dp_wlop_as(ctx, "coarser", input, &wp, coarser, ws, err);
 		if (st == DP_OK)
 			st = any_thin(coarser, factor, &thin, err);
 		if (st != DP_OK || !thin) {

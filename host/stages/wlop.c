@@ -20,6 +20,7 @@
 #include "core/common.h"
 #include "core/distinct.h"
 #include "knn/knn.h"
+#include "stages/wlop.h"
 
 #include <float.h>
 #include <math.h>
@@ -285,6 +286,12 @@ static dp_status iterate(dp_context *ctx, wlop_work *wk, const dp_wlop_params *p
 dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *params, dp_cloud *samples,
 		  dp_wlop_stats *stats, dp_error *err)
 {
+	return dp_wlop_as(ctx, "wlop", input, params, samples, stats, err);
+}
+
+dp_status dp_wlop_as(dp_context *ctx, const char *stage, const dp_cloud *input, const dp_wlop_params *params,
+		     dp_cloud *samples, dp_wlop_stats *stats, dp_error *err)
+{
 	double t_start = dp_seconds();
 	dp_wlop_params defaults;
 	dp_wlop_stats local;
@@ -349,7 +356,7 @@ dp_status dp_wlop(dp_context *ctx, const dp_cloud *input, const dp_wlop_params *
 		stats->iterations = it + 1;
 		stats->last_max_move = max_move / h;
 		stats->last_mean_move = mean_move / h;
-		if ((st = dp_progress(ctx, "wlop", it + 1, stats->last_mean_move, err)) != DP_OK)
+		if ((st = dp_progress(ctx, stage, it + 1, stats->last_mean_move, err)) != DP_OK)
 			goto done;
 		moves[(size_t)it % ring] = stats->last_mean_move;
 		if (stats->last_mean_move < params->tol) {

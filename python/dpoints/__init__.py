@@ -256,8 +256,10 @@ def consolidate(points, samples=None, *, device=None, backend="cl", progress=Non
     index or name substring (dpoints.devices()), None for $DPOINTS_DEVICE or
     the first. backend: "cl" or "ref" (the scalar reference, slow).
     progress: called as progress(stage, iteration, value, seconds) after
-    every iteration of every stage (value: WLOP and skeleton/surface mean
-    move in h or r, sinking settled points; seconds since the call began);
+    every iteration of every stage (stage: "wlop", "coarser" (coarser coarse
+    levels a one-sided scan tries), "sink", "skeleton", "surface" (once per
+    level), "even"; value: WLOP runs' mean move in h, the others' in r,
+    sinking's settled points; seconds since the call began);
     a true return value stops the run (Cancelled). threads: host threads of
     the loops that stay on the host (0: the CPUs this process may use; 1 in
     the workers of a process pool). The result does not depend on it.
