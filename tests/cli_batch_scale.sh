@@ -123,6 +123,20 @@ for k in ("wlop", "normals", "sink", "skeleton", "surface", "total"):
 if set(s["stop"]) != {"wlop", "sink", "skeleton", "surface"} or not set(s["stop"].values()) <= {"converged", "stalled", "settled", "cap"}:
     sys.exit("stop %r" % s["stop"])
 ' "$tmp/sumbad.out" "$tmp/withbad" 2>&1); then ok "summary --json: a failed and an ok row, exit 1"; else fail "summary --json: status $status: ${msg:-}"; fi
+# a report written before deep_points_run existed: the count kept was the count run
+mkdir "$tmp/old" && cp -a "$tmp/single/sphere" "$tmp/old/" && py '
+import json, sys
+r = json.load(open(sys.argv[1]))
+del r["results"]["deep_points_run"]
+json.dump(r, open(sys.argv[1], "w"))
+' "$tmp/old/sphere/report.json"
+expect_ok sumold summary "$tmp/old" --json
+if msg=$(py '
+import json, sys
+s = json.loads(open(sys.argv[1]).read())
+if s["deep_points_run"] != s["deep_points"] or s["deep_points"] != 300:
+    sys.exit("%r" % s)
+' "$tmp/sumold.out" 2>&1); then ok "summary --json of an older report: run = kept"; else fail "summary of an older report: $msg"; fi
 # a later success clears the record
 expect_ok fixed consolidate "$tmp/scans/sphere.ply" "$tmp/scans/torus.ply" -o "$tmp/withbad" "${opts[@]}" &&
 	[ -e "$tmp/withbad/bad.failed.json" ] && ok "a record of another input stays" || fail "record vanished"

@@ -23,6 +23,10 @@ expect_ok scan1 scan --shape sphere --views 1 --res 64 --seed 3 -o "$tmp/s1.ply"
 expect_ok run consolidate "$tmp/s1.ply" -o "$tmp/out1" --samples 1000 --coarse-samples 1000 --coarse-min 250 || finish
 check "the first coarser level tried" 'coarser 1 +ended after [0-9]+/200 iterations: '
 check "the second coarser level tried" 'coarser 2 +ended after [0-9]+/200 iterations: '
+# runs of one name that each end at their first iteration are still two runs
+expect_ok run consolidate "$tmp/s1.ply" -o "$tmp/out2" --samples 1000 --coarse-samples 1000 --coarse-min 250 \
+	--wlop-iters 1 || finish
+check "coarser levels of one iteration each" 'coarser 2 +ended after 1/1 iterations: stopped at the iteration cap'
 expect_ok quiet consolidate "$tmp/s.ply" -o "$tmp/q" --samples 300 --quiet
 # the cap warning is no progress line and stays under --quiet
 grep -qE "iteration +[0-9]+/|ended after" "$tmp/quiet.err" && fail "--quiet printed progress: $(cat "$tmp/quiet.err")" || ok "--quiet: no progress"

@@ -17,11 +17,12 @@ if expect_ok wlop wlop "$tmp/sphere.ply" -o "$tmp/wlop.ply" --report "$tmp/repor
 		fail "wlop: no summary line on stdout: $(cat "$tmp/wlop.out")"
 	fi
 	# Progress on stderr, as consolidate gives it: a big input is not silent.
-	# In order: WLOP's end line before the normals; below 4000 samples the
-	# denser samples that sign them, a WLOP run of their own name.
-	if grep -qE '^  \[ *[0-9.]+ s\] wlop +iteration +1, mean move ' "$tmp/wlop.err" &&
+	# In order: WLOP's end line (with its cap) before the normals; below 4000
+	# samples the denser samples that sign them, a WLOP run of their own name.
+	if grep -qE '^  \[ *[0-9.]+ s\] wlop +iteration +1/60, mean move ' "$tmp/wlop.err" &&
 		[ "$(grep -oE '\] (wlop +ended|normals|denser +ended|write)' "$tmp/wlop.err" | tr -s ' ' | tr '\n' ,)" = \
-			"] wlop ended,] normals,] denser ended,] write," ]; then
+			"] wlop ended,] normals,] denser ended,] write," ] &&
+		grep -qE '\] wlop +ended after [0-9]+/60 iterations: ' "$tmp/wlop.err"; then
 		ok "wlop progress: $(wc -l <"$tmp/wlop.err") lines on stderr"
 	else
 		fail "wlop: no progress on stderr: $(cat "$tmp/wlop.err")"

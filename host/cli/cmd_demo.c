@@ -112,8 +112,12 @@ int dp_cmd_demo(int argc, char **argv)
 
 	if ((rc = cli_open_context(cmd, backend, device, &ctx)))
 		goto done;
-	if (!quiet)
-		dp_context_set_progress(ctx, dp_cli_progress, NULL);
+	dp_cli_progress_state progress;
+	memset(&progress, 0, sizeof progress);
+	if (!quiet) {
+		dp_context_set_progress(ctx, dp_cli_progress, &progress);
+		job.progress = &progress;
+	}
 	job.backend_name = backend ? "ref" : "cl";
 	job.device_name = dp_context_device_name(ctx);
 	dp_consolidate_summary summary;

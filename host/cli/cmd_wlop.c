@@ -17,25 +17,27 @@ typedef struct wlop_run {
 	double seconds_read, seconds_normals, seconds_write;
 	double context_start; /* seconds since the command started when the context was made */
 	int quiet;
+	dp_params caps;                 /* the WLOP cap, for the progress lines */
+	dp_cli_progress_state progress; /* their printer */
 } wlop_run;
 
 /* The library reports seconds since the context was made; reading came before
  * it, so the lines count from the command's start like the other lines here. */
 static int wlop_progress(void *user, const char *stage, int iteration, double value, double elapsed)
 {
-	const wlop_run *run = user;
-	return dp_cli_progress(NULL, stage, iteration, value, run->context_start + elapsed);
+	wlop_run *run = user;
+	return dp_cli_progress(&run->progress, stage, iteration, value, run->context_start + elapsed);
 }
 
 /* A line before a step with no iterations to report, which on millions of
  * points takes long enough to look like a hang. Nothing is printed before the
  * first WLOP iteration, so an input or device error stays one line. */
-static void wlop_step(const wlop_run *run, double start, const char *step, size_t points)
+static void wlop_step(wlop_run *run, double start, const char *step, size_t points)
 {
 	if (run->quiet)
 		return;
 	/* the WLOP run before it has ended: its line first */
-	dp_cli_progress_end(NULL, 1);
+	dp_cli_progress_end(&run->progress, 1);
 	fprintf(stderr, "  [%7.1f s] %-9s %zu points\n", dp_seconds() - start, step, points);
 }
 
@@ -162,8 +164,12 @@ int dp_cmd_wlop(int argc, char **argv)
 	if ((rc = cli_open_context(cmd, run.backend, device, &ctx)))
 		goto done;
 	run.device_name = dp_context_device_name(ctx);
-	if (!run.quiet)
+	if (!run.quiet) {
+		dp_params_default(&run.caps);
+		run.caps.wlop = run.wp;
+		run.progress.params = &run.caps;
 		dp_context_set_progress(ctx, wlop_progress, &run);
+	}
 	if (dp_wlop(ctx, &in, &run.wp, &out, &run.ws, &err) != DP_OK) {
 		dp_cli_name_input(&err, run.input);
 		rc = dp_cli_fail(cmd, &err);

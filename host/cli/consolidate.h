@@ -46,19 +46,20 @@ void dp_cli_print_batch_summary(FILE *out, const char *const *inputs, const dp_c
 /* Progress lines on stderr, at most one a second per stage, "iteration
  * k/cap" where the caps are known, and one line when a stage ends saying why.
  * `user` is a dp_cli_progress_state (one per context, as workers run side by
- * side) or NULL for one shared by the whole process. */
+ * side). */
 typedef struct dp_cli_progress_state {
 	const char *stage;
 	double last_print;
 	char prefix[48];         /* before every line: which worker, in a batch over devices */
 	const dp_params *params; /* the caps; NULL: unknown */
-	int iteration, runs;     /* of the running stage; runs of "surface" (later ones: refined levels) */
+	int iteration, runs;     /* of the running stage; its runs in a row ("surface": later ones are refined
+				    levels; "even", "coarser": numbered) */
 	double value, elapsed;
 } dp_cli_progress_state;
 int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed);
-/* The end line of the last stage, after the pipeline returned (`ok`: it
- * finished; otherwise nothing is printed); readies `st` (NULL: the printer of
- * dp_cli_progress calls with no state) for the next input. */
+/* The end line of the running stage once it is over: after the pipeline
+ * returned, or before a step that reports no iterations (`ok`: it finished;
+ * otherwise nothing is printed); readies `st` for the next stage or input. */
 void dp_cli_progress_end(dp_cli_progress_state *st, int ok);
 /* mkdir -p; 0 or an exit code after one error line. */
 int dp_cli_mkdir(const char *cmd, const char *dir);

@@ -6,12 +6,18 @@
 
 #include <string.h>
 
+/* WLOP under any of its progress names (dp_progress_fn). */
+static int wlop_run(const char *stage)
+{
+	return strcmp(stage, "wlop") == 0 || strcmp(stage, "coarser") == 0 || strcmp(stage, "denser") == 0;
+}
+
 static int cap_of(const dp_cli_progress_state *st, const char *stage)
 {
 	const dp_params *p = st->params;
 	if (!p)
 		return 0;
-	if (strcmp(stage, "wlop") == 0 || strcmp(stage, "coarser") == 0 || strcmp(stage, "denser") == 0)
+	if (wlop_run(stage))
 		return p->wlop.max_iters;
 	if (strcmp(stage, "sink") == 0)
 		return p->sink.max_iters;
@@ -25,7 +31,8 @@ static int cap_of(const dp_cli_progress_state *st, const char *stage)
 }
 
 /* The running stage's name as printed: refined levels are runs of the
- * surface stage after the first. */
+ * surface stage after the first; even-spacing rounds and the coarser levels
+ * tried are numbered. */
 static const char *label(const dp_cli_progress_state *st, char *buf, size_t size)
 {
 	if (strcmp(st->stage, "surface") == 0 && st->runs > 1) {
@@ -62,13 +69,12 @@ static void end_line(const dp_cli_progress_state *st)
 			label(st, name, sizeof name), st->iteration);
 }
 
-/* The printer of callers that pass no state of their own (NULL). */
-static dp_cli_progress_state process;
-
 int dp_cli_progress(void *user, const char *stage, int iteration, double value, double elapsed)
 {
-	dp_cli_progress_state *st = user ? user : &process;
-	int fresh = stage != st->stage || iteration < st->iteration;
+	dp_cli_progress_state *st = user;
+	/* iterations rise within a run: one that does not starts a new run
+	 * (a run may end at its first iteration) */
+	int fresh = stage != st->stage || iteration <= st->iteration;
 	if (fresh && st->stage)
 		end_line(st);
 	if (fresh) {
@@ -91,7 +97,7 @@ int dp_cli_progress(void *user, const char *stage, int iteration, double value, 
 	const char *pre = st->prefix, *shown = label(st, name, sizeof name);
 	if (strcmp(stage, "sink") == 0)
 		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %s, %.0f settled\n", pre, elapsed, shown, it, value);
-	else if (strcmp(stage, "wlop") == 0 || strcmp(stage, "coarser") == 0 || strcmp(stage, "denser") == 0)
+	else if (wlop_run(stage))
 		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %s, mean move %.4f h\n", pre, elapsed, shown, it, value);
 	else
 		fprintf(stderr, "%s  [%7.1f s] %-9s iteration %s, mean move %.4f r\n", pre, elapsed, shown, it, value);
@@ -100,8 +106,6 @@ int dp_cli_progress(void *user, const char *stage, int iteration, double value, 
 
 void dp_cli_progress_end(dp_cli_progress_state *st, int ok)
 {
-	if (!st)
-		st = &process;
 	if (ok && st->stage)
 		end_line(st);
 	st->stage = NULL;

@@ -303,7 +303,10 @@ class Samples:
 def wlop(points, samples=None, *, normals=True, device=None, backend="cl", progress=None, threads=0, **params):
     """Stage 1 alone: WLOP (denoised, evenly spaced samples of the input),
     then oriented PCA normals unless normals=False. Keywords as consolidate();
-    only the wlop_* and normals_* parameters matter here."""
+    only the wlop_* and normals_* parameters matter here. Below 4000 samples
+    the normals may take their signs from denser WLOP samples
+    (dp_orient_from_denser), whose iterations reach progress as the stage
+    "denser"."""
     pts = _points_array(points)
     threads = _threads_arg(threads)
     if samples is not None:
