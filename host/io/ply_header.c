@@ -2,6 +2,7 @@
 
 #include "core/common.h"
 
+#include <stdlib.h>
 #include <string.h>
 #include <strings.h>
 
@@ -40,6 +41,22 @@ static dp_status header_fail(dp_io_stream *s, const char *problem, const char *w
 		       word ? " '" : "", word ? word : "", word ? "'" : "");
 }
 
+/* `items` (n of `size` bytes, room for *cap, never more than `most`) with
+ * room for one more: the same or a moved array, or NULL when out of memory
+ * (items is then left as it was). */
+static void *grow(void *items, int *cap, int n, int most, size_t size)
+{
+	if (n < *cap)
+		return items;
+	int want = *cap ? 2 * *cap : 4;
+	if (want > most)
+		want = most;
+	void *g = realloc(items, (size_t)want * size);
+	if (g)
+		*cap = want;
+	return g;
+}
+
 static dp_status add_property(dp_io_stream *s, ply_header *h, char **tok, int ntok, dp_error *err)
 {
 	if (h->nelements == 0)
@@ -47,6 +64,10 @@ static dp_status add_property(dp_io_stream *s, ply_header *h, char **tok, int nt
 	ply_element *el = &h->elements[h->nelements - 1];
 	if (el->nprops == PLY_MAX_PROPERTIES)
 		return header_fail(s, "too many properties on element", el->name, err);
+	ply_property *props = grow(el->props, &el->props_cap, el->nprops, PLY_MAX_PROPERTIES, sizeof *props);
+	if (!props)
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for the PLY header", s->path);
+	el->props = props;
 	ply_property *p = &el->props[el->nprops];
 	const char *name;
 	memset(p, 0, sizeof *p);
@@ -101,7 +122,12 @@ static dp_status add_element(dp_io_stream *s, ply_header *h, char **tok, int nto
 		return header_fail(s, "expected 'element NAME COUNT'", NULL, err);
 	if (h->nelements == PLY_MAX_ELEMENTS)
 		return header_fail(s, "too many elements", NULL, err);
-	ply_element *el = &h->elements[h->nelements];
+	ply_element *elements = grow(h->elements, &h->elements_cap, h->nelements, PLY_MAX_ELEMENTS, sizeof *elements);
+	if (!elements)
+		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for the PLY header", s->path);
+	h->elements = elements;
+	/* counted at once, so that dp_io_ply_header_free sees it whatever fails */
+	ply_element *el = &h->elements[h->nelements++];
 	memset(el, 0, sizeof *el);
 	if (!dp_io_parse_count(tok[2], &el->count))
 		return header_fail(s, "bad element count", tok[2], err);
@@ -109,10 +135,17 @@ static dp_status add_element(dp_io_stream *s, ply_header *h, char **tok, int nto
 	if (strcmp(el->name, "vertex") == 0) {
 		if (h->vertex >= 0)
 			return header_fail(s, "second vertex element", NULL, err);
-		h->vertex = h->nelements;
+		h->vertex = h->nelements - 1;
 	}
-	h->nelements++;
 	return DP_OK;
+}
+
+void dp_io_ply_header_free(ply_header *h)
+{
+	for (int e = 0; e < h->nelements; e++)
+		free(h->elements[e].props);
+	free(h->elements);
+	memset(h, 0, sizeof *h);
 }
 
 static dp_status set_format(dp_io_stream *s, ply_header *h, char **tok, int ntok, dp_error *err)

@@ -308,17 +308,15 @@ static dp_status select_roles(dp_io_stream *s, ply_header *h, int faces, int edg
  * element into `edges` when it is not NULL. */
 static dp_status read_ply(dp_io_stream *s, dp_io_builder *b, int flags, ply_edges *edges, dp_error *err)
 {
-	ply_header *h = calloc(1, sizeof *h);
-	if (!h)
-		return dp_fail(err, DP_ERR_NOMEM, "%s: out of memory for the PLY header", s->path);
-	dp_status st = dp_io_ply_read_header(s, h, err);
+	ply_header h = {0};
+	dp_status st = dp_io_ply_read_header(s, &h, err);
 	if (st == DP_OK)
-		st = select_roles(s, h, flags & DP_READ_MESH, edges != NULL, err);
+		st = select_roles(s, &h, flags & DP_READ_MESH, edges != NULL, err);
 	if (st == DP_OK) {
-		ply_source src = {s, {s, NULL}, h->format, NULL, 0, h->elements[h->vertex].count, b, edges};
-		st = read_data(&src, h, err);
+		ply_source src = {s, {s, NULL}, h.format, NULL, 0, h.elements[h.vertex].count, b, edges};
+		st = read_data(&src, &h, err);
 	}
-	free(h);
+	dp_io_ply_header_free(&h);
 	return st;
 }
 
