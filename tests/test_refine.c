@@ -280,6 +280,80 @@ static void test_subset_spread(void **state)
 	assert_int_equal(dp_refine_subset(M, x, y, z, N, all, &err), DP_ERR_ARG);
 }
 
+/* The specification of dp_refine_subset: from point 0, each next pick the
+ * point farthest from those picked (squared distances in double, ties to the
+ * lower index), found by scanning every point for every pick. */
+static void plain_subset(size_t n, const float *x, const float *y, const float *z, size_t m, uint32_t *keep)
+{
+	double *near = malloc(n * sizeof *near);
+	assert_non_null(near);
+	for (size_t i = 0; i < n; i++)
+		near[i] = INFINITY;
+	size_t pick = 0;
+	for (size_t k = 0; k < m; k++) {
+		keep[k] = (uint32_t)pick;
+		near[pick] = -1.0;
+		size_t next = pick;
+		double far = -1.0;
+		for (size_t i = 0; i < n; i++) {
+			if (near[i] < 0.0)
+				continue;
+			double dx = (double)x[i] - x[pick], dy = (double)y[i] - y[pick], dz = (double)z[i] - z[pick];
+			near[i] = fmin(near[i], dx * dx + dy * dy + dz * dz);
+			if (near[i] > far) {
+				far = near[i];
+				next = i;
+			}
+		}
+		pick = next;
+	}
+	free(near);
+	for (size_t a = 1; a < m; a++)
+		for (size_t b = a; b > 0 && keep[b - 1] > keep[b]; b--) {
+			uint32_t t = keep[b];
+			keep[b] = keep[b - 1];
+			keep[b - 1] = t;
+		}
+}
+
+/* The kd-tree and heap pick exactly what the plain scan picks: on a clump,
+ * a spread, exact duplicates (equal distances: the tie rule decides), a grid
+ * (many equal distances) and coordinates whose squares leave a float's range
+ * (every point searched). */
+static void test_subset_matches_plain(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	enum { N = 1500 };
+	static float x[N], y[N], z[N];
+	static uint32_t fast[N], plain[N];
+	const size_t counts[] = {1, 2, 7, 120, 700, N};
+	for (int shape = 0; shape < 3; shape++) {
+		dp_rng rng;
+		dp_rng_seed(&rng, 11 + (uint64_t)shape);
+		for (size_t i = 0; i < N; i++) {
+			double scale = i % 3 == 0 ? 0.1 : 1.0, big = shape == 2 ? 1e25 : 1.0;
+			if (shape == 1) {
+				/* a 10 x 10 x 15 grid */
+				x[i] = (float)(i % 10), y[i] = (float)(i / 10 % 10), z[i] = (float)(i / 100);
+			} else if (i % 7 == 6) {
+				x[i] = x[i - 1], y[i] = y[i - 1], z[i] = z[i - 1];
+			} else {
+				x[i] = (float)(big * scale * dp_rng_uniform(&rng));
+				y[i] = (float)(big * scale * dp_rng_uniform(&rng));
+				z[i] = (float)(big * scale * dp_rng_uniform(&rng));
+			}
+		}
+		for (size_t c = 0; c < sizeof counts / sizeof counts[0]; c++) {
+			size_t m = counts[c];
+			assert_int_equal(dp_refine_subset(N, x, y, z, m, fast, &err), DP_OK);
+			plain_subset(N, x, y, z, m, plain);
+			for (size_t k = 0; k < m; k++)
+				assert_int_equal(fast[k], plain[k]);
+		}
+	}
+}
+
 /* Fewer deep points than the coarse level: the pipeline runs at the coarse
  * count and keeps an even subset, rows of every output in step with a run
  * asked for the coarse count itself. On the demo chair at 1000 (two views of
@@ -395,6 +469,7 @@ int main(void)
 		cmocka_unit_test(test_insert_thin),
 		cmocka_unit_test(test_upsample_pipeline),
 		cmocka_unit_test(test_subset_spread),
+		cmocka_unit_test(test_subset_matches_plain),
 		cmocka_unit_test(test_subset_pipeline),
 		cmocka_unit_test(test_coarser_level),
 	};

@@ -11,8 +11,10 @@
 
 #include "core/common.h"
 #include "grid/hash.h"
+#include "knn/kdtree.h"
 #include "knn/knn.h"
 
+#include <float.h>
 #include <math.h>
 #include <stdlib.h>
 #include <string.h>
@@ -449,40 +451,121 @@ static int cmp_u32(const void *a, const void *b)
 	return (u > v) - (u < v);
 }
 
+/* The unpicked points of farthest-point sampling as a binary max-heap on
+ * their squared distance to the subset, ties to the lower index: the order
+ * in which the plain scan (refine.h) would take them. */
+typedef struct far_heap {
+	const double *key;
+	uint32_t *item; /* heap order */
+	uint32_t *pos;  /* per point: its place in item, or NOT_IN_HEAP */
+	size_t n;
+} far_heap;
+
+#define NOT_IN_HEAP UINT32_MAX
+
+static int ahead(const far_heap *h, uint32_t a, uint32_t b)
+{
+	return h->key[a] > h->key[b] || (h->key[a] == h->key[b] && a < b);
+}
+
+static void place(far_heap *h, size_t k, uint32_t i)
+{
+	h->item[k] = i;
+	h->pos[i] = (uint32_t)k;
+}
+
+/* Moves the item at k down to its place: keys only fall. */
+static void sift_down(far_heap *h, size_t k)
+{
+	uint32_t i = h->item[k];
+	for (;;) {
+		size_t c = 2 * k + 1;
+		if (c >= h->n)
+			break;
+		if (c + 1 < h->n && ahead(h, h->item[c + 1], h->item[c]))
+			c++;
+		if (!ahead(h, h->item[c], i))
+			break;
+		place(h, k, h->item[c]);
+		k = c;
+	}
+	place(h, k, i);
+}
+
+static uint32_t pop(far_heap *h)
+{
+	uint32_t top = h->item[0];
+	h->pos[top] = NOT_IN_HEAP;
+	if (--h->n > 0) {
+		place(h, 0, h->item[h->n]);
+		sift_down(h, 0);
+	}
+	return top;
+}
+
+/* A squared distance within this share of the subset's farthest is searched
+ * for: the tree sums squares in float, a few units in the 7th digit off the
+ * double sums here. */
+#define SEARCH_SLACK 1e-5
+
 dp_status dp_refine_subset(size_t n, const float *x, const float *y, const float *z, size_t m, uint32_t *keep,
 			   dp_error *err)
 {
 	if (m == 0)
 		return DP_OK;
-	if (m > n || n > UINT32_MAX)
+	if (m > n || n >= UINT32_MAX)
 		return dp_fail(err, DP_ERR_ARG, "refine: a subset of %zu from %zu points", m, n);
 	/* squared distance of every point to the nearest one picked */
 	double *near = dp_alloc_array(n, sizeof *near);
-	if (!near)
-		return dp_fail(err, DP_ERR_NOMEM, "refine: out of memory choosing %zu of %zu points", m, n);
-	for (size_t i = 0; i < n; i++)
+	uint32_t *item = dp_alloc_array(n, sizeof *item), *pos = dp_alloc_array(n, sizeof *pos);
+	uint32_t *found = dp_alloc_array(n, sizeof *found);
+	float *d2 = dp_alloc_array(n, sizeof *d2);
+	dp_kdtree tree = {0};
+	dp_status st = DP_OK;
+	if (!near || !item || !pos || !found || !d2) {
+		st = dp_fail(err, DP_ERR_NOMEM, "refine: out of memory choosing %zu of %zu points", m, n);
+		goto out;
+	}
+	if ((st = dp_kdtree_build(&tree, n, x, y, z, err)) != DP_OK)
+		goto out;
+	/* every key infinite: index order is heap order */
+	far_heap h = {near, item, pos, n};
+	for (size_t i = 0; i < n; i++) {
 		near[i] = INFINITY;
-	size_t pick = 0;
+		place(&h, i, (uint32_t)i);
+	}
 	for (size_t k = 0; k < m; k++) {
-		keep[k] = (uint32_t)pick;
-		near[pick] = -1.0;
-		size_t next = pick;
-		double far = -1.0;
-		for (size_t i = 0; i < n; i++) {
-			if (near[i] < 0.0)
+		uint32_t pick = pop(&h);
+		keep[k] = pick;
+		if (h.n == 0)
+			break;
+		/* only points nearer the pick than to the subset move, and none
+		 * lies farther from the subset than the heap's top */
+		double reach = near[h.item[0]] * (1.0 + SEARCH_SLACK);
+		/* beyond a float's range (the first picks: infinite) every point */
+		int all = !(reach < FLT_MAX);
+		size_t count = all ? n
+				   : dp_kdtree_nearest_within(&tree, x[pick], y[pick], z[pick], (float)reach + FLT_MIN, n,
+							      found, d2);
+		for (size_t j = 0; j < count; j++) {
+			uint32_t i = all ? (uint32_t)j : found[j];
+			if (pos[i] == NOT_IN_HEAP)
 				continue;
 			double dx = (double)x[i] - x[pick], dy = (double)y[i] - y[pick], dz = (double)z[i] - z[pick];
-			double d2 = dx * dx + dy * dy + dz * dz;
-			if (d2 < near[i])
-				near[i] = d2;
-			if (near[i] > far) {
-				far = near[i];
-				next = i;
+			double dd = dx * dx + dy * dy + dz * dz;
+			if (dd < near[i]) {
+				near[i] = dd;
+				sift_down(&h, pos[i]);
 			}
 		}
-		pick = next;
 	}
-	free(near);
 	qsort(keep, m, sizeof *keep, cmp_u32);
-	return DP_OK;
+out:
+	dp_kdtree_free(&tree);
+	free(near);
+	free(item);
+	free(pos);
+	free(found);
+	free(d2);
+	return st;
 }

@@ -40,10 +40,13 @@ dp_status dp_refine_even(dp_cloud *surface, dp_cloud *skeleton, unsigned char *r
  * The fewer deep points of a count below the coarse level: picks `m` of the
  * n points (x, y, z) by farthest-point sampling, from point 0, each next the
  * one farthest from those picked, and writes their indices in ascending order
- * to keep (m entries; m <= n). Plain O(n m) work, on one thread: a few
- * milliseconds at the default coarse level of 4000, but coarse_samples
- * 200000 with 100000 kept is 2e10 distances. DP_ERR_ARG (m > n, n above
- * 32 bits), DP_ERR_NOMEM.
+ * to keep (m entries; m <= n); of equally far points, the lowest index. The
+ * same picks as that plain scan over all points for each pick (test_refine
+ * has it), but each pick updates only the points within the farthest
+ * point's distance of it (a kd-tree search) and the farthest is the top of
+ * a heap: about n log m work instead of n m (coarse_samples 200000 with
+ * 100000 kept was 2e10 distances). One thread. DP_ERR_ARG (m > n, n of 2^32 - 1
+ * or more), DP_ERR_NOMEM.
  */
 dp_status dp_refine_subset(size_t n, const float *x, const float *y, const float *z, size_t m, uint32_t *keep,
 			   dp_error *err);
