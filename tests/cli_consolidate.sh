@@ -188,14 +188,17 @@ run bad_even_iters consolidate "$tmp/torus.ply" -o "$tmp/bad" --even-iters 0
 one_error_line bad_even_iters 2 "even-spacing rounds"
 
 # The scan's outline: an axis given is used and reported (any length, 1e300
-# too), --no-silhouette reports none (300 samples are too few to find one).
-if expect_ok outline consolidate "$tmp/torus.ply" -o "$tmp/outline" --samples $m --view-axis 0,0,1e300 &&
+# too), with its edge margin; --no-silhouette reports none (300 samples are
+# too few to find one); a negative edge margin is refused.
+if expect_ok outline consolidate "$tmp/torus.ply" -o "$tmp/outline" --samples $m --view-axis 0,0,1e300 \
+	--silhouette-edge-margin 1.5 &&
 	expect_ok no_outline consolidate "$tmp/torus.ply" -o "$tmp/no_outline" --samples $m --no-silhouette; then
 	if msg=$(py '
 import json, sys
 on, off = (json.load(open(d + "/report.json")) for d in sys.argv[1:3])
 p, s = on["parameters"]["surface"], on["results"]["surface"]
-if not p["silhouette"] or p["silhouette_axis"] != [0, 0, 1e300] or p["silhouette_margin_r"] != 2.5:
+if not p["silhouette"] or p["silhouette_axis"] != [0, 0, 1e300] or p["silhouette_margin_r"] != 2.5 \
+        or p["silhouette_edge_margin_r"] != 1.5:
     sys.exit("parameters %s" % p)
 if s["silhouette_axis"] != [0, 0, 1] or s["silhouette_grazing"] != -1 or s["silhouette_held"] < 0:
     sys.exit("results %s" % s)
@@ -206,6 +209,8 @@ if off["parameters"]["surface"]["silhouette"] or t["silhouette_axis"] != [0, 0, 
 print("axis %s, %d held, %d anchors capped" % (s["silhouette_axis"], s["silhouette_held"], s["silhouette_capped"]))
 ' "$tmp/outline" "$tmp/no_outline" 2>&1); then ok "--view-axis: $msg"; else fail "--view-axis: $msg"; fi
 fi
+run bad_edge consolidate "$tmp/torus.ply" -o "$tmp/bad" --silhouette-edge-margin -1
+one_error_line bad_edge 2 "silhouette edge margin"
 # Facing the scanner: a one-view scan whose eye lies along +x (the ring at
 # elevation 0), with that axis given, is one-sided towards +x and reported
 # so; --no-face-scanner reports no side and no turns.

@@ -104,7 +104,7 @@ static void test_hold(void **state)
 	dp_silhouette s = {0};
 	const float axis[3] = {0.0f, 0.0f, 1.0f};
 	const double cell = 0.02, margin = 0.1;
-	if (dp_silhouette_build(&s, &in, axis, cell, margin, &err) != DP_OK)
+	if (dp_silhouette_build(&s, &in, axis, cell, margin, NULL, 0.0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	float x[5] = {2.0f, 0.0f, 0.6f, -300.0f, 0.7f}, y[5] = {0.0f, 0.0f, 0.3f, 40.0f, -0.7f};
 	float z[5] = {0.3f, 0.2f, 5.0f, -0.5f, 0.0f};
@@ -120,8 +120,73 @@ static void test_hold(void **state)
 	assert_int_equal(dp_silhouette_hold(&s, 5, x, y, z), 0);
 	dp_silhouette_free(&s);
 	/* bad arguments */
-	assert_int_equal(dp_silhouette_build(&s, &in, axis, 0.0, margin, &err), DP_ERR_ARG);
-	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, -1.0, &err), DP_ERR_ARG);
+	assert_int_equal(dp_silhouette_build(&s, &in, axis, 0.0, margin, NULL, 0.0, &err), DP_ERR_ARG);
+	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, -1.0, NULL, 0.0, &err), DP_ERR_ARG);
+	dp_cloud_free(&in);
+}
+
+/* A unit disc (flat) or hemisphere (cap = 1) about the z axis, with unit
+ * normals: seen along z, the disc faces the scanner up to its rim, the
+ * hemisphere turns away from it there. */
+static void disc_or_cap(dp_cloud *in, int cap)
+{
+	dp_error err = {0};
+	const size_t n = 6000;
+	if (dp_cloud_alloc(in, n, 1, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	for (size_t i = 0; i < n; i++) {
+		/* even in area over the disc; the cap lifts each point onto the sphere */
+		double rho = sqrt(((double)i + 0.5) / (double)n), t = (double)i * M_PI * (3.0 - sqrt(5.0));
+		double x = rho * cos(t), y = rho * sin(t), z = cap ? sqrt(fmax(0.0, 1.0 - rho * rho)) : 0.0;
+		in->x[i] = (float)x, in->y[i] = (float)y, in->z[i] = (float)z;
+		in->nx[i] = cap ? (float)x : 0.0f, in->ny[i] = cap ? (float)y : 0.0f, in->nz[i] = cap ? (float)z : 1.0f;
+	}
+}
+
+/* The edge margin: a point between it and the whole margin beyond the rim
+ * comes back to within the edge margin of a disc seen face on, and stays
+ * beside a hemisphere seen from its pole (normals within 50° of
+ * perpendicular at its rim grow the whole margin); without samples, or with
+ * an edge margin above the margin, the whole margin holds all round. */
+static void test_edge_margin(void **state)
+{
+	(void)state;
+	dp_error err = {0};
+	const float axis[3] = {0.0f, 0.0f, 1.0f};
+	const double cell = 0.02, margin = 0.1, edge = 0.02;
+	for (int cap = 0; cap < 2; cap++) {
+		dp_cloud in = {0};
+		disc_or_cap(&in, cap);
+		const double edges[3] = {edge, edge, 2.0 * margin};
+		for (int k = 0; k < 3; k++) {
+			dp_silhouette s = {0};
+			const dp_cloud *facing = k == 1 ? NULL : &in;
+			if (dp_silhouette_build(&s, &in, axis, cell, margin, facing, edges[k], &err) != DP_OK)
+				fail_msg("%s", err.message);
+			float x = 1.07f, y = 0.0f, z = 0.5f;
+			size_t moved = dp_silhouette_hold(&s, 1, &x, &y, &z);
+			printf("%s, facing %s, edge margin %.2f: %s to %.4f\n", cap ? "hemisphere" : "disc",
+			       facing ? "given" : "none", edges[k], moved ? "moved" : "stays", (double)x);
+			if (cap == 0 && k == 0) {
+				assert_int_equal(moved, 1);
+				assert_true(x > 1.0f && x <= (float)(1.0 + edge + 2.0 * cell));
+			} else {
+				assert_int_equal(moved, 0);
+			}
+			assert_true(s.margin == margin);
+			dp_silhouette_free(&s);
+		}
+		dp_cloud_free(&in);
+	}
+	/* a negative edge margin, or samples without normals */
+	dp_cloud in = {0}, bare = {0};
+	disc_or_cap(&in, 0);
+	dp_silhouette s = {0};
+	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, margin, &in, -1.0, &err), DP_ERR_ARG);
+	if (dp_cloud_alloc(&bare, 3, 0, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, margin, &bare, edge, &err), DP_ERR_ARG);
+	dp_cloud_free(&bare);
 	dp_cloud_free(&in);
 }
 
@@ -148,7 +213,7 @@ static void test_grid_exact(void **state)
 	}
 	dp_silhouette s = {0};
 	const float axis[3] = {0.0f, 0.0f, 1.0f};
-	if (dp_silhouette_build(&s, &in, axis, 0.05, 0.07, &err) != DP_OK)
+	if (dp_silhouette_build(&s, &in, axis, 0.05, 0.07, NULL, 0.0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	size_t cells = (size_t)s.nu * (size_t)s.nv, inside = 0, checked = 0;
 	for (size_t c = 0; c < cells; c++) {
@@ -199,7 +264,7 @@ static void test_cap(void **state)
 	tk_normals_in_cap(n, z, 90.0, in.x, in.y, in.z);
 	dp_silhouette s = {0};
 	const float axis[3] = {0.0f, 0.0f, 1.0f};
-	if (dp_silhouette_build(&s, &in, axis, 0.01, margin, &err) != DP_OK)
+	if (dp_silhouette_build(&s, &in, axis, 0.01, margin, NULL, 0.0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	float p[3] = {0.99f, 0.0f, 0.14f}, q[3] = {-1.6f, 0.0f, 0.14f};
 	assert_int_equal(dp_silhouette_cap(&s, p, q), 1);
@@ -215,7 +280,7 @@ static void test_cap(void **state)
 	assert_true(far[0] == 6.0f);
 	dp_silhouette_free(&s);
 	/* with no margin the outline itself bounds the anchor */
-	if (dp_silhouette_build(&s, &in, axis, 0.01, 0.0, &err) != DP_OK)
+	if (dp_silhouette_build(&s, &in, axis, 0.01, 0.0, NULL, 0.0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	float q0[3] = {-5.0f, 0.0f, 0.14f};
 	assert_int_equal(dp_silhouette_cap(&s, p, q0), 1);
@@ -223,7 +288,7 @@ static void test_cap(void **state)
 	dp_silhouette_free(&s);
 	/* an axis not of unit length is refused */
 	const float half[3] = {0.0f, 0.0f, 0.5f};
-	assert_int_equal(dp_silhouette_build(&s, &in, half, 0.01, 0.0, &err), DP_ERR_ARG);
+	assert_int_equal(dp_silhouette_build(&s, &in, half, 0.01, 0.0, NULL, 0.0, &err), DP_ERR_ARG);
 	dp_cloud_free(&in);
 }
 
@@ -250,7 +315,7 @@ static void test_pipeline(void **state)
 	tk_assert_rows_in_step(&on, 1500);
 	dp_silhouette s = {0};
 	const float axis[3] = {(float)a[0], (float)a[1], (float)a[2]};
-	if (dp_silhouette_build(&s, &scan, axis, on.r, p.surface.silhouette_margin_r * on.r, &err) != DP_OK)
+	if (dp_silhouette_build(&s, &scan, axis, on.r, p.surface.silhouette_margin_r * on.r, NULL, 0.0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	/* r grew over the levels: the outline at the last r holds the earlier ones */
 	assert_int_equal(dp_silhouette_hold(&s, on.surface.n, on.surface.x, on.surface.y, on.surface.z), 0);
@@ -271,7 +336,8 @@ int main(void)
 {
 	const struct CMUnitTest tests[] = {
 		cmocka_unit_test(test_axis_one_view), cmocka_unit_test(test_axis_none), cmocka_unit_test(test_axis_box),
-		cmocka_unit_test(test_hold),          cmocka_unit_test(test_grid_exact), cmocka_unit_test(test_cap),
+		cmocka_unit_test(test_hold),
+		cmocka_unit_test(test_edge_margin),          cmocka_unit_test(test_grid_exact), cmocka_unit_test(test_cap),
 		cmocka_unit_test(test_pipeline),
 	};
 	return cmocka_run_group_tests(tests, NULL, tk_teardown_contexts);

@@ -235,7 +235,11 @@ int dp_cmd_consolidate(int argc, char **argv)
 		 "the scanner's view axis, whose outline holds the completed points and along which a one-sided scan's "
 		 "normals face the scanner (default: found from the normals, if there is one)", NULL, NULL},
 		{"--silhouette-margin", CLI_DOUBLE, &p->surface.silhouette_margin_r,
-		 "growth of the scan's outline, in r", NULL, NULL},
+		 "growth of the scan's outline, in r, where the scan's surface turns away from the scanner at its edge",
+		 NULL, NULL},
+		{"--silhouette-edge-margin", CLI_DOUBLE, &p->surface.silhouette_edge_margin_r,
+		 "growth of the scan's outline, in r, where the scan's surface faces the scanner up to its edge (normals "
+		 "within 50 degrees of the view axis: a sharp edge, such as a flat base seen from the side)", NULL, NULL},
 		{"--silhouette-grazing", CLI_DOUBLE, &p->surface.silhouette_grazing,
 		 "a view axis is a direction to which at most this fraction of the normals lie within 10 degrees of "
 		 "perpendicular", NULL, NULL},

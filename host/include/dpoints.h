@@ -834,7 +834,8 @@ typedef struct dp_surface_params {
 	double silhouette_grazing; /* in [0, 1]; default 0.065 (normals spread over every direction: about 0.17) */
 	double silhouette_margin_r; /* growth of the outline, r, >= 0 (room for what a scanner misses at grazing
 	                             angles, and all the room completion has to bulge past the scan's edge);
-	                             default 2.5 */
+	                             default 2.5; where the scan's edge faces the scanner, the smaller
+	                             silhouette_edge_margin_r */
 	int face_scanner;         /* 1: where the scan was taken from one side of the view axis (given or found
 	                             as for silhouette, whether or not that is on): of the samples' normals that
 	                             point within acos(face_scanner_cos) of the axis either way, no more than one
@@ -858,6 +859,14 @@ typedef struct dp_surface_params {
 	                             dp_consolidate takes dp_normal_params' viewpoint when this is 0, no side is
 	                             given and that has one. Default 0 */
 	double viewpoint[3];      /* the scanner's eye, in input coordinates */
+	double silhouette_edge_margin_r; /* growth of the outline, r, >= 0, from the scan's cells that hold no
+	                             sample whose normal lies more than 50° from the view axis: a surface that
+	                             faces the scanner up to the scan's edge ends there in a sharp edge (a flat
+	                             base, a plate's rim), where the scanner missed nothing, while a surface
+	                             that turns away from it is lost before its outline and the whole
+	                             silhouette_margin_r is its room (host/stages/silhouette.h). The smaller of
+	                             the two is used; equal to silhouette_margin_r: one margin everywhere.
+	                             Default 1 */
 } dp_surface_params;
 
 DP_API void dp_surface_params_default(dp_surface_params *p);

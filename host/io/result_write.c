@@ -113,6 +113,7 @@ static void json_surface_params(dp_json_writer *w, const dp_surface_params *p)
 	json_vec3(w, "silhouette_axis", p->silhouette_axis);
 	dp_json_num(w, "silhouette_grazing", p->silhouette_grazing);
 	dp_json_num(w, "silhouette_margin_r", p->silhouette_margin_r);
+	dp_json_num(w, "silhouette_edge_margin_r", p->silhouette_edge_margin_r);
 	dp_json_bool(w, "face_scanner", p->face_scanner);
 	dp_json_num(w, "face_scanner_cos", p->face_scanner_cos);
 	dp_json_int(w, "scanner_side", p->scanner_side);

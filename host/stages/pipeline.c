@@ -59,6 +59,9 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 	if (!(s->silhouette_margin_r >= 0.0 && isfinite(s->silhouette_margin_r)))
 		return dp_fail(err, DP_ERR_ARG, "silhouette margin %g r is not a finite number >= 0",
 			       s->silhouette_margin_r);
+	if (!(s->silhouette_edge_margin_r >= 0.0 && isfinite(s->silhouette_edge_margin_r)))
+		return dp_fail(err, DP_ERR_ARG, "silhouette edge margin %g r is not a finite number >= 0",
+			       s->silhouette_edge_margin_r);
 	if (!(s->silhouette_grazing >= 0.0 && s->silhouette_grazing <= 1.0))
 		return dp_fail(err, DP_ERR_ARG, "silhouette grazing fraction %g is not in [0, 1]", s->silhouette_grazing);
 	if (dp_scanner_check(s, "", err) != DP_OK)
@@ -313,8 +316,8 @@ static dp_status refine(dp_context *ctx, const dp_cloud *input, const dp_params 
 		dp_surface_stats sst = {0};
 		relax.sheet_points = params->surface.sheet_points && l == levels - 1 && params->refine.even_rounds == 0;
 		if (st == DP_OK)
-			st = dp_surface(ctx, input, &res->surface, &res->skeleton, balls, res->r, &relax, &out, res->eta,
-					&sst, err);
+			st = dp_surface_as(ctx, "surface", input, &res->surface, &res->wlop, &res->skeleton, balls, res->r,
+					   &relax, &out, res->eta, &sst, err);
 		if (st != DP_OK)
 			return st;
 		copy_rows(&res->surface, &out, out.n);
@@ -354,7 +357,8 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
 				radius[i] = 0.0f;
 		relax.sheet_points = params->surface.sheet_points && round == rounds - 1;
 		if (st == DP_OK)
-			st = dp_surface_as(ctx, "even", input, &res->surface, &res->skeleton, balls, res->r, &relax, &out,
+			st = dp_surface_as(ctx, "even", input, &res->surface, &res->wlop, &res->skeleton, balls, res->r,
+					   &relax, &out,
 					   res->eta, &sst, err);
 		if (st == DP_OK) {
 			copy_rows(&res->surface, &out, out.n);
@@ -416,7 +420,8 @@ static dp_status outline_anchors(const dp_cloud *input, const dp_surface_params 
 	if (!p->silhouette || !dp_silhouette_unit(axis_in, axis))
 		return DP_OK;
 	dp_silhouette outline = {0};
-	dp_status st = dp_silhouette_build(&outline, input, axis, res->r, p->silhouette_margin_r * res->r, err);
+	dp_status st = dp_silhouette_build(&outline, input, axis, res->r, p->silhouette_margin_r * res->r, &res->wlop,
+					   p->silhouette_edge_margin_r * res->r, err);
 	for (size_t i = 0; st == DP_OK && i < res->anchors.n; i++) {
 		float at[3] = {res->wlop.x[i], res->wlop.y[i], res->wlop.z[i]};
 		float q[3] = {res->anchors.x[i], res->anchors.y[i], res->anchors.z[i]};
@@ -615,7 +620,8 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	dp_surface_params coarse_params = later.surface;
 	coarse_params.sheet_points = params->surface.sheet_points && levels == 1 && params->refine.even_rounds == 0;
 	if (st == DP_OK)
-		st = dp_surface(ctx, input, &res->wlop, &res->skeleton, balls, res->r, &coarse_params, &coarse,
+		st = dp_surface_as(ctx, "surface", input, &res->wlop, &res->wlop, &res->skeleton, balls, res->r,
+				   &coarse_params, &coarse,
 				res->eta, &sst, err);
 	if (st == DP_OK) {
 		copy_rows(&res->surface, &coarse, n0);

@@ -242,11 +242,29 @@ static void fill_holes(int nu, int nv, uint8_t *mark, int32_t *queue)
 		mark[c] = mark[c] != 2;
 }
 
+/* Marks in `graze` the cells (of s's grid) that hold a sample of `facing`
+ * whose unit normal lies more than DP_SILHOUETTE_EDGE_DEG from the axis. */
+static void mark_turning(const dp_silhouette *s, const dp_cloud *facing, const float axis[3], uint8_t *graze)
+{
+	double most = cos(DP_SILHOUETTE_EDGE_DEG * M_PI / 180.0);
+	for (size_t i = 0; i < facing->n; i++) {
+		double along = facing->nx[i] * axis[0] + facing->ny[i] * axis[1] + facing->nz[i] * axis[2];
+		if (!(fabs(along) < most))
+			continue;
+		double pu = facing->x[i] * s->u[0] + facing->y[i] * s->u[1] + facing->z[i] * s->u[2];
+		double pv = facing->x[i] * s->v[0] + facing->y[i] * s->v[1] + facing->z[i] * s->v[2];
+		double fa = floor((pu - s->u0) / s->cell), fb = floor((pv - s->v0) / s->cell);
+		if (fa >= 0.0 && fb >= 0.0 && fa < s->nu && fb < s->nv)
+			graze[(size_t)fb * s->nu + (size_t)fa] = 1;
+	}
+}
+
 dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const float axis[3], double cell, double margin,
-			      dp_error *err)
+			      const dp_cloud *facing, double edge_margin, dp_error *err)
 {
 	double len = sqrt((double)axis[0] * axis[0] + (double)axis[1] * axis[1] + (double)axis[2] * axis[2]);
 	if (!input->n || !(cell > 0.0) || !isfinite(cell) || !(margin >= 0.0) || !isfinite(margin) ||
+	    !(edge_margin >= 0.0) || !isfinite(edge_margin) || (facing && facing->n && !facing->nx) ||
 	    !(fabs(len - 1.0) < 1e-3))
 		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g, axis of length %g",
 			       input->n, cell, margin, len);
@@ -299,11 +317,26 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 		mark[(size_t)b * s->nu + a] = 1;
 	}
 	/* grow by the margin: every cell whose centre lies within it of an
-	 * occupied cell's centre (s->inset is scratch until its own turn) */
-	double reach = margin / cell;
+	 * occupied cell's centre (s->inset is scratch until its own turn);
+	 * with `facing`, by the edge margin from the others */
+	double reach = margin / cell, edge_reach = fmin(edge_margin, margin) / cell;
 	distance_transform(s->nu, s->nv, mark, s->inset, NULL, queue, &lw);
-	for (size_t c = 0; c < cells; c++)
-		mark[c] = s->inset[c] <= reach * reach;
+	if (facing && edge_reach < reach) {
+		float *turning = malloc(cells * sizeof *turning);
+		if (!turning) {
+			st = dp_fail(err, DP_ERR_NOMEM, "silhouette: out of memory for %zu cells", cells);
+			goto done;
+		}
+		memset(mark, 0, cells);
+		mark_turning(s, facing, axis, mark);
+		distance_transform(s->nu, s->nv, mark, turning, NULL, queue, &lw);
+		for (size_t c = 0; c < cells; c++)
+			mark[c] = s->inset[c] <= edge_reach * edge_reach || turning[c] <= reach * reach;
+		free(turning);
+	} else {
+		for (size_t c = 0; c < cells; c++)
+			mark[c] = s->inset[c] <= reach * reach;
+	}
 	fill_holes(s->nu, s->nv, mark, queue);
 	/* nearest: the nearest cell inside, a cell inside its own */
 	distance_transform(s->nu, s->nv, mark, s->inset, s->nearest, queue, &lw);

@@ -57,12 +57,18 @@ void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const 
 
 /* The outline of `input` seen along the unit `axis`: cells of `cell` across
  * it that an input point falls in, grown by `margin` (>= 0) and with every
- * hole the outline encloses filled. Zero-initialise `s` first; free with
+ * hole the outline encloses filled. With `facing` (samples on the scan with
+ * unit normals; NULL: none), only cells that hold a sample whose normal lies
+ * more than DP_SILHOUETTE_EDGE_DEG from the axis grow by `margin`, every
+ * other cell of the input by `edge_margin` (the smaller of the two): a
+ * surface that faces the scanner up to the scan's edge ends there. s->margin
+ * is `margin` either way. Zero-initialise `s` first; free with
  * dp_silhouette_free. DP_ERR_NOMEM, DP_ERR_ARG for an empty input, a cell
- * or margin that is not a finite number (> 0, >= 0), an axis not of unit
+ * or margins that are not finite numbers (> 0, >= 0), an axis not of unit
  * length, or spans no grid fits. */
+#define DP_SILHOUETTE_EDGE_DEG 50.0
 dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const float axis[3], double cell, double margin,
-			      dp_error *err);
+			      const dp_cloud *facing, double edge_margin, dp_error *err);
 void dp_silhouette_free(dp_silhouette *s);
 
 /* Moves each point outside the outline across the axis (never along it)

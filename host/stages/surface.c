@@ -141,6 +141,21 @@ void dp_surface_params_default(dp_surface_params *p)
 	 * 0.044 -> 0.805 / 2.12% / 0.042, bun090 + bun270 0.969 / 0.92% / 0.032
 	 * -> 0.973 / 0.85% / 0.028 (README (37)). */
 	p->silhouette_margin_r = 2.5;
+	/* Measured over WLOP seeds 1-6 (bench_completion, coverage / flipped /
+	 * 95th percentile; 2.5 r all round -> 1 r where the edge faces the
+	 * scanner, the anchors' outline and the surface's both): two views
+	 * 0.966 / 0.48% / 0.0174 -> 0.978 / 0.48% / 0.0127 (the closed base had
+	 * hung up to 2.4 r below the feet, whose scanned fronts face the
+	 * scanner, and anchors sat on its edge), one view 0.845 / 0.94% / 0.034
+	 * -> 0.857 / 0.90% / 0.033, bun270 0.805 / 2.12% -> 0.804 / 1.98%, bun090
+	 * + bun270 0.974 / 0.88% -> 0.982 / 0.80%, bun090 about the same, but
+	 * bun180 0.844 / 0.48% -> 0.839 / 0.78% (its ears' cloud held tighter);
+	 * the one-view spheres unchanged (their rims turn away), the chair has
+	 * no axis. Only the surface's outline: two views 0.966; only the
+	 * anchors': 0.969. Turning taken at 70° from the axis instead of 50°:
+	 * bun270 0.805 -> 0.766; 1.5 r there: two views 0.978 / 0.55%
+	 * (README (44)). */
+	p->silhouette_edge_margin_r = 1.0;
 	/* Measured over WLOP seeds 1-6 (bench_completion, the one-view bunny,
 	 * coverage / flipped / spacing CV / 95th percentile): off 0.854 / 1.38%
 	 * / 0.50 / 0.036; at 0.3 0.848 / 1.16%, 0.5 0.855 / 1.03%, 0.6 0.855 /
@@ -275,7 +290,8 @@ static dp_status check_args(const dp_context *ctx, const dp_cloud *input, const 
 	    !(p->end_smoothing_r >= 0.0) || !isfinite(p->end_smoothing_r * r) ||
 	    (p->prior != DP_SURFACE_PRIOR_VOLUME && p->prior != DP_SURFACE_PRIOR_MINIMAL) ||
 	    !(p->silhouette_grazing >= 0.0 && p->silhouette_grazing <= 1.0) || !(p->silhouette_margin_r >= 0.0) ||
-	    !isfinite(p->silhouette_margin_r * r) || !isfinite(p->silhouette_axis[0]) ||
+	    !isfinite(p->silhouette_margin_r * r) || !(p->silhouette_edge_margin_r >= 0.0) ||
+	    !isfinite(p->silhouette_edge_margin_r * r) || !isfinite(p->silhouette_axis[0]) ||
 	    !isfinite(p->silhouette_axis[1]) || !isfinite(p->silhouette_axis[2]) ||
 	    !isfinite(p->sigma_p * r) || !isfinite(p->normal_radius_r * r) || !isfinite(p->reattach_radius_r * r))
 		return dp_fail(err, DP_ERR_ARG, "surface: a parameter is out of range");
@@ -687,8 +703,8 @@ static int stop_test(const work *w, size_t n, int t, const dp_surface_params *p)
  * in A_N*) show, if any: the outline the points are held in (silhouette.h)
  * and the side the scan was taken from (scanner.h), unless the scanner's eye
  * is given. */
-static dp_status view(work *w, const dp_cloud *input, size_t n, double r, const dp_surface_params *p,
-		      dp_surface_stats *st, dp_error *err)
+static dp_status view(work *w, const dp_cloud *input, const dp_cloud *scan, size_t n, double r,
+		      const dp_surface_params *p, dp_surface_stats *st, dp_error *err)
 {
 	w->scanner_cos = (float)p->face_scanner_cos;
 	if (p->face_scanner && p->use_viewpoint) {
@@ -715,12 +731,13 @@ static dp_status view(work *w, const dp_cloud *input, size_t n, double r, const 
 		return DP_OK;
 	for (int c = 0; c < 3; c++)
 		st->silhouette_axis[c] = axis[c];
-	return dp_silhouette_build(&w->outline, input, axis, r, p->silhouette_margin_r * r, err);
+	return dp_silhouette_build(&w->outline, input, axis, r, p->silhouette_margin_r * r, scan,
+				   p->silhouette_edge_margin_r * r, err);
 }
 
 static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, const dp_cloud *samples,
-		     dp_cloud *skeleton, const dp_balls *balls, double r, const dp_surface_params *p, work *w,
-		     dp_surface_stats *st, dp_error *err)
+		     const dp_cloud *scan, dp_cloud *skeleton, const dp_balls *balls, double r,
+		     const dp_surface_params *p, work *w, dp_surface_stats *st, dp_error *err)
 {
 	size_t n = samples->n;
 	float **a = w->a;
@@ -751,7 +768,7 @@ static dp_status run(dp_context *ctx, const char *stage, const dp_cloud *input, 
 	int escaping = balls && p->escape_margin_r > 0.0;
 	if (escaping && (s = dp_ball_set_build(&w->balls, balls, (float)(BALL_SLACK_R * r), err)) != DP_OK)
 		return s;
-	if ((p->silhouette || p->face_scanner) && (s = view(w, input, n, r, p, st, err)) != DP_OK)
+	if ((p->silhouette || p->face_scanner) && (s = view(w, input, scan, n, r, p, st, err)) != DP_OK)
 		return s;
 
 	dp_surface_data_args data = {
@@ -880,12 +897,14 @@ dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_cloud *sam
 		     const dp_balls *balls, double r, const dp_surface_params *params, dp_cloud *surface,
 		     float *eta, dp_surface_stats *stats, dp_error *err)
 {
-	return dp_surface_as(ctx, "surface", input, samples, skeleton, balls, r, params, surface, eta, stats, err);
+	return dp_surface_as(ctx, "surface", input, samples, samples, skeleton, balls, r, params, surface, eta, stats,
+			     err);
 }
 
 dp_status dp_surface_as(dp_context *ctx, const char *stage, const dp_cloud *input, const dp_cloud *samples,
-			dp_cloud *skeleton, const dp_balls *balls, double r, const dp_surface_params *params,
-			dp_cloud *surface, float *eta, dp_surface_stats *stats, dp_error *err)
+			const dp_cloud *scan, dp_cloud *skeleton, const dp_balls *balls, double r,
+			const dp_surface_params *params, dp_cloud *surface, float *eta, dp_surface_stats *stats,
+			dp_error *err)
 {
 	double t0 = dp_seconds();
 	dp_surface_params defaults;
@@ -904,7 +923,7 @@ dp_status dp_surface_as(dp_context *ctx, const char *stage, const dp_cloud *inpu
 		return s;
 	dp_surface_stats st = {0};
 	double pairs0 = ctx->pair_evaluations;
-	s = run(ctx, stage, input, samples, skeleton, balls, r, params, &w, &st, err);
+	s = run(ctx, stage, input, samples, scan, skeleton, balls, r, params, &w, &st, err);
 	if (s == DP_OK)
 		s = dp_cloud_alloc(surface, n, 1, err);
 	if (s == DP_OK) {

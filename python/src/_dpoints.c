@@ -66,7 +66,7 @@ static const param_field PARAMS[] = {
 	F(surface, silhouette_grazing, P_DOUBLE), F(surface, silhouette_margin_r, P_DOUBLE),
 	F(surface, face_scanner, P_INT),  F(surface, face_scanner_cos, P_DOUBLE),
 	F(surface, scanner_side, P_INT),  F(surface, use_viewpoint, P_INT),
-	F(surface, viewpoint, P_VEC3),
+	F(surface, viewpoint, P_VEC3),    F(surface, silhouette_edge_margin_r, P_DOUBLE),
 	F(refine, coarse_samples, P_SIZE), F(refine, coarse_min, P_SIZE), F(refine, level_factor, P_DOUBLE),
 	F(refine, level_iters, P_INT),    F(refine, samples_floor, P_SIZE),
 	F(refine, even_rounds, P_INT),    F(refine, even_iters, P_INT),
