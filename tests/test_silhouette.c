@@ -125,53 +125,68 @@ static void test_hold(void **state)
 	dp_cloud_free(&in);
 }
 
-/* A unit disc (flat) or hemisphere (cap = 1) about the z axis, with unit
- * normals: seen along z, the disc faces the scanner up to its rim, the
- * hemisphere turns away from it there. */
-static void disc_or_cap(dp_cloud *in, int cap)
+/* Over the unit disc of the xy plane, a spherical cap on each half about the
+ * z axis with unit normals: x < 0 rising to `left` degrees from the axis at
+ * its rim, x >= 0 to `right` (0: flat, 90: a hemisphere), so that seen
+ * along z each half's edge faces the scanner or turns away from it. */
+static void two_caps(dp_cloud *in, double left, double right)
 {
 	dp_error err = {0};
 	const size_t n = 6000;
 	if (dp_cloud_alloc(in, n, 1, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	for (size_t i = 0; i < n; i++) {
-		/* even in area over the disc; the cap lifts each point onto the sphere */
+		/* even in area over the disc */
 		double rho = sqrt(((double)i + 0.5) / (double)n), t = (double)i * M_PI * (3.0 - sqrt(5.0));
-		double x = rho * cos(t), y = rho * sin(t), z = cap ? sqrt(fmax(0.0, 1.0 - rho * rho)) : 0.0;
+		double x = rho * cos(t), y = rho * sin(t), rim = (x < 0.0 ? left : right) * M_PI / 180.0;
+		double z = 0.0, nx = 0.0, ny = 0.0, nz = 1.0;
+		if (rim > 0.0) {
+			/* the sphere through the unit rim at that angle, centre below */
+			double radius = 1.0 / sin(rim), below = radius * cos(rim);
+			z = sqrt(fmax(0.0, radius * radius - rho * rho)) - below;
+			nx = x / radius, ny = y / radius, nz = (z + below) / radius;
+		}
 		in->x[i] = (float)x, in->y[i] = (float)y, in->z[i] = (float)z;
-		in->nx[i] = cap ? (float)x : 0.0f, in->ny[i] = cap ? (float)y : 0.0f, in->nz[i] = cap ? (float)z : 1.0f;
+		in->nx[i] = (float)nx, in->ny[i] = (float)ny, in->nz[i] = (float)nz;
 	}
 }
 
 /* The edge margin: a point between it and the whole margin beyond the rim
- * comes back to within the edge margin of a disc seen face on, and stays
- * beside a hemisphere seen from its pole (normals within 50° of
- * perpendicular at its rim grow the whole margin); without samples, or with
- * an edge margin above the margin, the whole margin holds all round. */
+ * comes back to within the edge margin on the half whose rim faces the
+ * scanner and stays beside the half that turns away from it (normals more
+ * than 50° from the axis at the rim grow the whole margin), on either side
+ * (flat against a hemisphere, then caps of 40° against 60°); without
+ * samples, or with an edge margin above the margin, the whole margin holds
+ * all round. */
 static void test_edge_margin(void **state)
 {
 	(void)state;
 	dp_error err = {0};
 	const float axis[3] = {0.0f, 0.0f, 1.0f};
 	const double cell = 0.02, margin = 0.1, edge = 0.02;
-	for (int cap = 0; cap < 2; cap++) {
+	const double halves[4][2] = {{0.0, 90.0}, {90.0, 0.0}, {40.0, 60.0}, {60.0, 40.0}};
+	for (int h = 0; h < 4; h++) {
 		dp_cloud in = {0};
-		disc_or_cap(&in, cap);
+		two_caps(&in, halves[h][0], halves[h][1]);
 		const double edges[3] = {edge, edge, 2.0 * margin};
 		for (int k = 0; k < 3; k++) {
 			dp_silhouette s = {0};
 			const dp_cloud *facing = k == 1 ? NULL : &in;
 			if (dp_silhouette_build(&s, &in, axis, cell, margin, facing, edges[k], &err) != DP_OK)
 				fail_msg("%s", err.message);
-			float x = 1.07f, y = 0.0f, z = 0.5f;
-			size_t moved = dp_silhouette_hold(&s, 1, &x, &y, &z);
-			printf("%s, facing %s, edge margin %.2f: %s to %.4f\n", cap ? "hemisphere" : "disc",
-			       facing ? "given" : "none", edges[k], moved ? "moved" : "stays", (double)x);
-			if (cap == 0 && k == 0) {
-				assert_int_equal(moved, 1);
-				assert_true(x > 1.0f && x <= (float)(1.0 + edge + 2.0 * cell));
-			} else {
-				assert_int_equal(moved, 0);
+			for (int side = 0; side < 2; side++) {
+				float x = side ? 1.07f : -1.07f, y = 0.0f, z = 0.5f;
+				size_t moved = dp_silhouette_hold(&s, 1, &x, &y, &z);
+				int faces = halves[h][side] < 50.0;
+				printf("caps %2.0f/%2.0f, facing %s, edge margin %.2f, %s rim: %s to x = %.4f\n",
+				       halves[h][0], halves[h][1], facing ? "given" : "none", edges[k],
+				       side ? "right" : "left", moved ? "moved" : "stays", (double)x);
+				if (k == 0 && faces) {
+					assert_int_equal(moved, 1);
+					assert_true(fabsf(x) > 1.0f && fabsf(x) <= (float)(1.0 + edge + 2.0 * cell));
+				} else {
+					assert_int_equal(moved, 0);
+				}
 			}
 			assert_true(s.margin == margin);
 			dp_silhouette_free(&s);
@@ -180,12 +195,13 @@ static void test_edge_margin(void **state)
 	}
 	/* a negative edge margin, or samples without normals */
 	dp_cloud in = {0}, bare = {0};
-	disc_or_cap(&in, 0);
+	two_caps(&in, 0.0, 0.0);
 	dp_silhouette s = {0};
 	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, margin, &in, -1.0, &err), DP_ERR_ARG);
 	if (dp_cloud_alloc(&bare, 3, 0, &err) != DP_OK)
 		fail_msg("%s", err.message);
 	assert_int_equal(dp_silhouette_build(&s, &in, axis, cell, margin, &bare, edge, &err), DP_ERR_ARG);
+	assert_non_null(strstr(err.message, "without normals"));
 	dp_cloud_free(&bare);
 	dp_cloud_free(&in);
 }

@@ -938,8 +938,10 @@ typedef struct dp_balls {
  * normals, when present, receive the
  * final surface normals (an inner point carries its surface point's normal);
  * on error `skeleton` is left as it was. r > 0 is the surface
- * spacing. `params` NULL means defaults; `stats` may be NULL. Reports
- * progress as ("surface", iteration, mean move in r). Uses ctx exclusively
+ * spacing. `params` NULL means defaults; `stats` may be NULL. With an
+ * outline (params->silhouette and a view axis), the samples' normals say
+ * where the scan's edge faces the scanner (silhouette_edge_margin_r).
+ * Reports progress as ("surface", iteration, mean move in r). Uses ctx exclusively
  * for its duration.
  * Errors: DP_ERR_ARG (NULL arguments, samples without normals or with a zero
  * normal, a skeleton of another size, `surface` aliasing an input, non-finite

@@ -263,11 +263,17 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 			      const dp_cloud *facing, double edge_margin, dp_error *err)
 {
 	double len = sqrt((double)axis[0] * axis[0] + (double)axis[1] * axis[1] + (double)axis[2] * axis[2]);
+	if (facing && !facing->n)
+		facing = NULL;
 	if (!input->n || !(cell > 0.0) || !isfinite(cell) || !(margin >= 0.0) || !isfinite(margin) ||
-	    !(edge_margin >= 0.0) || !isfinite(edge_margin) || (facing && facing->n && !facing->nx) ||
+	    !(edge_margin >= 0.0) || !isfinite(edge_margin) || (facing && (!facing->nx || !facing->ny || !facing->nz)) ||
 	    !(fabs(len - 1.0) < 1e-3))
-		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g, axis of length %g",
-			       input->n, cell, margin, len);
+		return dp_fail(err, DP_ERR_ARG,
+			       "silhouette: %zu input points, cell %g, margin %g, edge margin %g, %s, axis of length %g",
+			       input->n, cell, margin, edge_margin,
+			       !facing ? "no facing samples" : facing->nx && facing->ny && facing->nz ? "facing samples"
+												: "facing samples without normals",
+			       len);
 	dp_silhouette_free(s);
 	dp_silhouette_across(axis, s->u, s->v);
 	double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
@@ -374,8 +380,12 @@ static int inside_by_margin(const dp_silhouette *s, double x, double y, double z
 
 int dp_silhouette_cap(const dp_silhouette *s, const float p[3], float q[3])
 {
-	/* an anchor inside stays; so does one whose sample is not inside (WLOP
-	 * samples lie on the input, so that is only rounding at the edge) */
+	/* an anchor inside stays; so does one whose sample is not inside by
+	 * the margin: rounding at the edge for WLOP samples, which lie on the
+	 * input, or a sample within the margin less the edge margin of an edge
+	 * that faces the scanner. Holding those to their own depth inside
+	 * measured worse: one-view bunny 0.857 / 0.90% -> 0.849 / 1.07%
+	 * (coverage / flipped, WLOP seeds 1-6). */
 	if (inside_by_margin(s, q[0], q[1], q[2]) || !inside_by_margin(s, p[0], p[1], p[2]))
 		return 0;
 	/* from p, inside, to q, outside: the last place inside along the line */

@@ -58,7 +58,7 @@ void dp_silhouette_pick(const double given[3], size_t n, const float *nx, const 
 /* The outline of `input` seen along the unit `axis`: cells of `cell` across
  * it that an input point falls in, grown by `margin` (>= 0) and with every
  * hole the outline encloses filled. With `facing` (samples on the scan with
- * unit normals; NULL: none), only cells that hold a sample whose normal lies
+ * unit normals; NULL or none: one margin), only cells that hold a sample whose normal lies
  * more than DP_SILHOUETTE_EDGE_DEG from the axis grow by `margin`, every
  * other cell of the input by `edge_margin` (the smaller of the two): a
  * surface that faces the scanner up to the scan's edge ends there. s->margin
@@ -82,8 +82,9 @@ size_t dp_silhouette_hold(const dp_silhouette *s, size_t n, float *x, float *y, 
  * scanned (the soles of bun270's feet, whose tops face up: 148 anchors down
  * to 13 r below the base), moves back along its line towards its sample p
  * to the last place inside (to within a 128th of its depth) and 1 is
- * returned; an anchor inside, or one whose sample is not inside either,
- * stays (0). Only the centre is
+ * returned; an anchor inside, or one whose sample is not inside either (at
+ * an edge that faces the scanner, where the outline grew by the edge margin
+ * only, the samples within the margin less that), stays (0). Only the centre is
  * bounded: the stronger bound that an anchor's ball, radius its depth,
  * lie inside the outline measured worse (README, result (35)). Reads
  * only s. */
