@@ -358,8 +358,7 @@ static dp_status even_out(dp_context *ctx, const dp_cloud *input, const dp_param
 		relax.sheet_points = params->surface.sheet_points && round == rounds - 1;
 		if (st == DP_OK)
 			st = dp_surface_as(ctx, "even", input, &res->surface, &res->wlop, &res->skeleton, balls, res->r,
-					   &relax, &out,
-					   res->eta, &sst, err);
+					   &relax, &out, res->eta, &sst, err);
 		if (st == DP_OK) {
 			copy_rows(&res->surface, &out, out.n);
 			res->even_moved += moved;
@@ -621,8 +620,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	coarse_params.sheet_points = params->surface.sheet_points && levels == 1 && params->refine.even_rounds == 0;
 	if (st == DP_OK)
 		st = dp_surface_as(ctx, "surface", input, &res->wlop, &res->wlop, &res->skeleton, balls, res->r,
-				   &coarse_params, &coarse,
-				res->eta, &sst, err);
+				   &coarse_params, &coarse, res->eta, &sst, err);
 	if (st == DP_OK) {
 		copy_rows(&res->surface, &coarse, n0);
 		copy_rows(&inner, &res->skeleton, n0);

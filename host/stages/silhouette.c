@@ -265,15 +265,12 @@ dp_status dp_silhouette_build(dp_silhouette *s, const dp_cloud *input, const flo
 	double len = sqrt((double)axis[0] * axis[0] + (double)axis[1] * axis[1] + (double)axis[2] * axis[2]);
 	if (facing && !facing->n)
 		facing = NULL;
+	int bare = facing && (!facing->nx || !facing->ny || !facing->nz);
 	if (!input->n || !(cell > 0.0) || !isfinite(cell) || !(margin >= 0.0) || !isfinite(margin) ||
-	    !(edge_margin >= 0.0) || !isfinite(edge_margin) || (facing && (!facing->nx || !facing->ny || !facing->nz)) ||
-	    !(fabs(len - 1.0) < 1e-3))
-		return dp_fail(err, DP_ERR_ARG,
-			       "silhouette: %zu input points, cell %g, margin %g, edge margin %g, %s, axis of length %g",
-			       input->n, cell, margin, edge_margin,
-			       !facing ? "no facing samples" : facing->nx && facing->ny && facing->nz ? "facing samples"
-												: "facing samples without normals",
-			       len);
+	    !(edge_margin >= 0.0) || !isfinite(edge_margin) || bare || !(fabs(len - 1.0) < 1e-3))
+		return dp_fail(err, DP_ERR_ARG, "silhouette: %zu input points, cell %g, margin %g, edge margin %g, axis of "
+			       "length %g%s", input->n, cell, margin, edge_margin, len,
+			       bare ? ", facing samples without normals" : "");
 	dp_silhouette_free(s);
 	dp_silhouette_across(axis, s->u, s->v);
 	double lo_u = INFINITY, hi_u = -INFINITY, lo_v = INFINITY, hi_v = -INFINITY;
