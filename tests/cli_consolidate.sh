@@ -55,6 +55,10 @@ if res["deep_points"] != m or not res["r"] > 0:
 run, coarse = res["deep_points_run"], r["parameters"]["refine"]["coarse_samples"]
 if not m < run <= coarse:
     sys.exit("report.json: %d deep points run for %d asked, coarse level %d" % (run, m, coarse))
+# a complete torus is no one-sided scan: its surface stage starts on the whole coarse level
+if r["parameters"]["refine"]["fill_samples"] != 2000 or res["filled_from"] != 0:
+    sys.exit("report.json: fill_samples %s, filled_from %s" % (r["parameters"]["refine"]["fill_samples"],
+                                                                res["filled_from"]))
 for stage in ("wlop", "sink", "skeleton", "surface"):
     if not res[stage]["iterations"] > 0:
         sys.exit("report.json: %s ran %s iterations" % (stage, res[stage]["iterations"]))
@@ -182,6 +186,8 @@ if refine["even_rounds"] != 2 or refine["even_iters"] != 3 or not 0 <= surface["
 print("%d rows, %d points moved" % (m, surface["even_moved"]))
 ' "$tmp/even" $m 2>&1); then ok "--even-rounds 2: $msg"; else fail "--even-rounds 2: $msg"; fi
 fi
+run bad_fill consolidate "$tmp/torus.ply" -o "$tmp/bad" --fill-samples 4
+one_error_line bad_fill 2 "fill level 4"
 run bad_even consolidate "$tmp/torus.ply" -o "$tmp/bad" --even-rounds -1
 one_error_line bad_even 2 "even-spacing rounds"
 run bad_even_iters consolidate "$tmp/torus.ply" -o "$tmp/bad" --even-iters 0

@@ -255,6 +255,9 @@ int dp_cmd_consolidate(int argc, char **argv)
 		{"--coarse-min", CLI_COUNT, &p->refine.coarse_min,
 		 "a one-sided scan's coarse level may be as coarse as this (doubling up to --coarse-samples) where no "
 		 "part is thinner than 16 r (0 = always --coarse-samples)", NULL, NULL},
+		{"--fill-samples", CLI_COUNT, &p->refine.fill_samples,
+		 "a one-sided scan's surface stage starts on an even subset of this many of the coarse level's deep "
+		 "points, where its far side fills sooner (0 = off)", NULL, NULL},
 		{"--level-factor", CLI_DOUBLE, &p->refine.level_factor, "deep-point growth per refined level", NULL,
 		 NULL},
 		{"--level-iters", CLI_INT, &p->refine.level_iters, "surface iterations per refined level", NULL, NULL},

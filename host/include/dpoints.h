@@ -973,7 +973,8 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * exceed the input's (upsampling, paper Fig. 15). The coarse level holds at
  * most the input's distinct positions. A scan taken from one side with no
  * thin part may run a coarser coarse level (coarse_min), whose far side then
- * fills sooner. A count below the coarse level runs at the coarse level all
+ * fills sooner; one with a thin part starts its surface stage on a subset of
+ * the coarse level's deep points instead (fill_samples). A count below the coarse level runs at the coarse level all
  * the same and keeps a farthest-point subset of the deep points (the same
  * rows of every array of dp_result; ran_with says so): run at 1000, the demo
  * chair's WLOP normals pointed 98% inwards and its surface lay 0.034
@@ -1029,6 +1030,13 @@ typedef struct dp_refine_params {
 	                             relaxes even_iters iterations (dp_consolidate's comment above has what it
 	                             trades); default 0 */
 	int even_iters;           /* surface iterations relaxing each even-spacing round, >= 1; default 3 */
+	size_t fill_samples;      /* a scan taken from one side (as for coarse_min) whose coarse level holds more
+	                             deep points than this runs WLOP, sinking and the meso-skeleton there, then
+	                             the surface stage's first level on a farthest-point subset of this many of
+	                             them, from which the levels grow as above: thin parts need the coarse
+	                             level's spacing to sink right, while the far side fills in fewer spacings
+	                             from the subset. 0 = off, else at least 32; default 2000 (one-view bunny,
+	                             WLOP seeds 1-6: README (45)) */
 } dp_refine_params;
 
 DP_API void dp_refine_params_default(dp_refine_params *p);
@@ -1061,7 +1069,8 @@ DP_API void dp_params_default(dp_params *p);
  * the deep-point count n in the same order: deep point i joins surface point
  * i and skeleton point i. wlop and anchors belong to the coarse level (its
  * n0 <= n points, or as many of them as were kept for a count below
- * it; n0 = n without refinement): rows 0..n0-1 of the other
+ * it or as the surface stage started on: filled_from; n0 = n without
+ * refinement): rows 0..n0-1 of the other
  * arrays are the deep points grown from them, the rest were inserted by the
  * refined levels, except that an even-spacing round (dp_refine_params) puts
  * each point it moves into the row of the point it removed (even_moved rows
@@ -1101,6 +1110,10 @@ typedef struct dp_result {
 	                             level[], the stages' stats, even_moved, silhouette_capped and
 	                             samples_turned then describe that run, the settle counts of sink_stats the
 	                             anchors kept */
+	size_t filled_from;       /* the coarse level's count when the surface stage's first level ran on a subset
+	                             of it (dp_refine_params.fill_samples; level[0].points of them): wlop_stats
+	                             and skeleton_stats describe the run at this count, while wlop, anchors,
+	                             settled_by and sink_stats' settle counts hold the subset; 0: no subset */
 } dp_result;
 
 /*

@@ -132,6 +132,7 @@ static void json_refine_params(dp_json_writer *w, const dp_refine_params *p)
 	dp_json_int(w, "samples_floor", (long long)p->samples_floor);
 	dp_json_int(w, "even_rounds", p->even_rounds);
 	dp_json_int(w, "even_iters", p->even_iters);
+	dp_json_int(w, "fill_samples", (long long)p->fill_samples);
 	dp_json_end_object(w);
 }
 
@@ -164,6 +165,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "points_in", (long long)r->points_in);
 	dp_json_int(w, "deep_points", (long long)r->surface.n);
 	dp_json_int(w, "deep_points_run", (long long)r->ran_with);
+	dp_json_int(w, "filled_from", (long long)r->filled_from);
 	dp_json_num(w, "r", r->r);
 	dp_json_object(w, "wlop");
 	dp_json_num(w, "h", r->wlop_stats.h);

@@ -39,6 +39,7 @@ void dp_refine_params_default(dp_refine_params *p)
 	p->samples_floor = 4000;
 	p->even_rounds = 0;
 	p->even_iters = 3;
+	p->fill_samples = 2000;
 }
 
 /* The pipeline's own parameters (each stage checks its own). */
@@ -49,6 +50,9 @@ static dp_status check_params(const dp_params *p, dp_error *err)
 			       "out of range", p->refine.level_factor, p->refine.level_iters);
 	if (p->refine.coarse_min && p->refine.coarse_min < MIN_COARSE_SAMPLES)
 		return dp_fail(err, DP_ERR_ARG, "coarsest coarse level %zu: 0 or at least %d", p->refine.coarse_min,
+			       MIN_COARSE_SAMPLES);
+	if (p->refine.fill_samples && p->refine.fill_samples < MIN_COARSE_SAMPLES)
+		return dp_fail(err, DP_ERR_ARG, "fill level %zu: 0 or at least %d", p->refine.fill_samples,
 			       MIN_COARSE_SAMPLES);
 	if (p->refine.even_rounds < 0 || p->refine.even_iters < 1)
 		return dp_fail(err, DP_ERR_ARG, "even-spacing rounds %d (must be >= 0) or iterations %d (must be >= 1) "
@@ -246,9 +250,12 @@ static dp_status coarser_level(dp_context *ctx, const dp_cloud *input, const dp_
 	return DP_OK;
 }
 
-/* Moves rows keep[0..m) (ascending) of the cloud's arrays to the front. */
+/* Moves rows keep[0..m) (ascending) of the cloud's arrays to the front; an
+ * empty cloud stays empty. */
 static void keep_rows(dp_cloud *c, const uint32_t *keep, size_t m)
 {
+	if (!c->n)
+		return;
 	float *a[] = {c->x, c->y, c->z, c->nx, c->ny, c->nz, c->intensity};
 	for (size_t k = 0; k < sizeof a / sizeof a[0]; k++)
 		for (size_t i = 0; a[k] && i < m; i++)
@@ -258,15 +265,15 @@ static void keep_rows(dp_cloud *c, const uint32_t *keep, size_t m)
 	c->n = m;
 }
 
-/* The count asked for below the coarse level: an even subset of the
- * coarse level's deep points (dp_refine_subset over the surface), the same
- * rows of every array. */
-static dp_status keep_subset(dp_result *res, size_t m, dp_error *err)
+/* An even subset of m of the deep points, picked over `by` (the surface,
+ * or the WLOP samples before there is one) by dp_refine_subset: the same
+ * rows of every array (those not yet made stay empty). */
+static dp_status keep_subset(dp_result *res, const dp_cloud *by, size_t m, dp_error *err)
 {
 	uint32_t *keep = dp_alloc_array(m, sizeof *keep);
 	if (!keep)
 		return dp_fail(err, DP_ERR_NOMEM, "out of memory choosing %zu deep points", m);
-	dp_status st = dp_refine_subset(res->surface.n, res->surface.x, res->surface.y, res->surface.z, m, keep, err);
+	dp_status st = dp_refine_subset(by->n, by->x, by->y, by->z, m, keep, err);
 	if (st == DP_OK) {
 		keep_rows(&res->surface, keep, m);
 		keep_rows(&res->skeleton, keep, m);
@@ -277,8 +284,10 @@ static dp_status keep_subset(dp_result *res, size_t m, dp_error *err)
 		ss->settled_front = ss->settled_medial = ss->settled_width = ss->settled_slow = ss->settled_flat =
 			ss->unsettled = 0;
 		for (size_t i = 0; i < m; i++) {
-			res->eta[i] = res->eta[keep[i]];
-			res->length[i] = res->length[keep[i]];
+			if (res->eta) {
+				res->eta[i] = res->eta[keep[i]];
+				res->length[i] = res->length[keep[i]];
+			}
 			unsigned char why = res->settled_by[i] = res->settled_by[keep[i]];
 			ss->settled_front += why == DP_SETTLE_FRONT;
 			ss->settled_medial += why == DP_SETTLE_MEDIAL;
@@ -521,8 +530,10 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	if (st != DP_OK)
 		goto fail_normals;
 	int coarser_ok = coarse_count && params->refine.coarse_min && params->refine.coarse_min < coarse_count;
+	int fill_ok = coarse_count && params->refine.fill_samples && params->refine.fill_samples < res->wlop.n;
 	int one_side = params->surface.scanner_side;
-	if (coarser_ok && !one_side && (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
+	if ((coarser_ok || fill_ok) && !one_side &&
+	    (st = one_sided(&res->wlop, &params->surface, &one_side, err)) != DP_OK)
 		goto fail_normals;
 	if (coarser_ok && one_side) {
 		dp_cloud coarser = {0};
@@ -588,6 +599,20 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		in_stage(err, st, "skeleton");
 		goto fail;
 	}
+	/* A one-sided scan's far side fills from an even subset of the deep
+	 * points: sinking and the skeleton need the coarse level's spacing for
+	 * its thin parts, completion a coarser one (dp_refine_params). */
+	if (one_side && params->refine.fill_samples && coarse_count && res->wlop.n > params->refine.fill_samples) {
+		res->filled_from = res->wlop.n;
+		st = keep_subset(res, &res->wlop, params->refine.fill_samples, err);
+		if (st == DP_OK)
+			st = dp_mean_spacing(res->wlop.n, res->wlop.x, res->wlop.y, res->wlop.z, &res->r, err);
+		if (st != DP_OK) {
+			in_stage(err, st, "fill level");
+			goto fail;
+		}
+		levels = dp_refine_levels(res->wlop.n, run, params->refine.level_factor, counts, DP_MAX_LEVELS);
+	}
 	size_t n = run, n0 = res->wlop.n;
 	dp_cloud coarse = {0}, inner = {0};
 	dp_surface_stats sst = {0};
@@ -650,7 +675,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		       dz = res->surface.z[i] - res->skeleton.z[i];
 		res->length[i] = (float)sqrt(dx * dx + dy * dy + dz * dz);
 	}
-	if (run > target && (st = keep_subset(res, target, err)) != DP_OK) {
+	if (run > target && (st = keep_subset(res, &res->surface, target, err)) != DP_OK) {
 		in_stage(err, st, "refine");
 		goto fail;
 	}

@@ -200,7 +200,10 @@ class Result:
     samples and sunk anchors (Clouds), and settled (len(anchors),) uint8 says
     how each anchor stopped sinking, an index into SETTLE_WAYS;
     deep_points_run is the count the stages ran at (above n when these were
-    kept from a coarse level); report is report.json as a dict."""
+    kept from a coarse level); filled_from is the coarse level's count when a
+    one-sided scan's surface stage started on a subset of it (wlop and
+    anchors are then that subset; refine_fill_samples), else 0; report is
+    report.json as a dict."""
 
     def __init__(self, capsule, points):
         self._capsule = capsule
@@ -219,6 +222,7 @@ class Result:
         self.r = a["r"]
         self.report = json.loads(_dpoints.result_report(capsule, None))
         self.deep_points_run = self.report["results"]["deep_points_run"]
+        self.filled_from = self.report["results"]["filled_from"]
 
     def __len__(self):
         return len(self.surface)

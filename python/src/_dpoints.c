@@ -70,6 +70,7 @@ static const param_field PARAMS[] = {
 	F(refine, coarse_samples, P_SIZE), F(refine, coarse_min, P_SIZE), F(refine, level_factor, P_DOUBLE),
 	F(refine, level_iters, P_INT),    F(refine, samples_floor, P_SIZE),
 	F(refine, even_rounds, P_INT),    F(refine, even_iters, P_INT),
+	F(refine, fill_samples, P_SIZE),
 };
 #undef F
 #define NPARAMS (sizeof PARAMS / sizeof PARAMS[0])

@@ -135,6 +135,7 @@ def test_result_arrays_and_report():
     assert res.report["parameters"]["wlop"]["samples"] == 600
     # 600 kept from a coarse level of the torus's 3000 points (below 4000, all of them)
     assert res.deep_points_run == 3000
+    assert res.filled_from == 0  # scanned from every side
     # the surface lies on the torus, the skeleton near its core circle
     d = np.hypot(np.hypot(res.surface[:, 0], res.surface[:, 1]) - 1, res.surface[:, 2])
     assert abs(np.median(d) - 0.35) < 0.05
@@ -182,6 +183,33 @@ def test_settled_ways(tmp_path):
         rows = np.loadtxt(f, ndmin=2)
     assert names[-1] == "settled" and len(rows) == len(res.settled)
     np.testing.assert_array_equal(rows[:, names.index("settled")], res.settled)
+
+
+def near_half_sphere(res=62):
+    """The half of a unit sphere that a scanner looking down the z axis sees,
+    one point per ray of a res x res grid (sparser where the surface turns
+    away), float32."""
+    g = np.linspace(-1, 1, res)
+    x, y = (a.ravel() for a in np.meshgrid(g, g))
+    k = x * x + y * y < 0.98
+    return np.c_[x[k], y[k], np.sqrt(1 - x[k] ** 2 - y[k] ** 2)].astype(np.float32)
+
+
+def test_one_sided_scan_fills_from_a_subset():
+    pts = near_half_sphere()
+    # the coarse level holds every point (the default count, no coarser level tried); the surface stage
+    # starts on fill_samples of them, whose samples and anchors are the first rows
+    res = dpoints.consolidate(pts, refine_coarse_min=0)
+    fill = res.report["parameters"]["refine"]["fill_samples"]
+    assert res.filled_from == len(pts) == len(res) == res.deep_points_run
+    assert res.report["results"]["surface"]["levels"][0]["points"] == fill
+    assert len(res.wlop) == len(res.anchors) == len(res.settled) == fill
+    # those are rows of the coarse level's WLOP samples, as run without the subset
+    off = dpoints.consolidate(pts, refine_coarse_min=0, refine_fill_samples=0)
+    assert off.filled_from == 0 and len(off.wlop) == len(pts)
+    assert set(map(tuple, res.wlop.points)) <= set(map(tuple, off.wlop.points))
+    # the far half, which no ray reached, is completed
+    assert (res.surface[:, 2] < -0.5).mean() > 0.1
 
 
 def test_write_and_read_back(tmp_path):
