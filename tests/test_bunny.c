@@ -250,6 +250,9 @@ static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, doub
 	dp_params_default(&params);
 	params.sink.medial_margin_r = margin_r;
 	params.sink.medial_fraction = fraction;
+	/* the surface stage from every deep point, as measured above: depths in
+	 * the coarse level's r, which then is level[0].r */
+	params.refine.fill_samples = 0;
 	dp_result res = {0};
 	dp_error err = {0};
 	if (dp_consolidate(tk_cl_context(), view, &params, &res, &err) != DP_OK)

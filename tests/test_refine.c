@@ -450,9 +450,12 @@ static void test_coarser_level(void **state)
 			assert_true(e.coverage >= 0.99);
 		} else {
 			/* WLOP ran at the coarse level; a one-sided scan's surface
-			 * started on fill_samples of it (test_fill_level) */
+			 * started on fill_samples of it (test_fill_level), never a
+			 * complete one's */
 			size_t ran = res.filled_from ? res.filled_from : res.level[0].points;
 			assert_true(ran >= coarse - 1); /* distinct positions */
+			if (cases[c].views > 1)
+				assert_int_equal(res.filled_from, 0);
 		}
 		if (c == 0) {
 			/* a level of a few points has no surface to grow from */
@@ -466,9 +469,10 @@ static void test_coarser_level(void **state)
 	}
 }
 
-/* Rows j < m of `sub` are rows of `all` in ascending order, every column the
- * same (an even subset keeps rows, it does not move them). */
-static void assert_rows_of(const dp_cloud *sub, const dp_cloud *all)
+/* The rows of `sub` are rows of `all` in ascending order, every column the
+ * same (an even subset keeps rows, it does not move them); row[j] receives
+ * the row of `all` that row j of `sub` is. */
+static void assert_rows_of(const dp_cloud *sub, const dp_cloud *all, size_t *row)
 {
 	size_t k = 0;
 	for (size_t j = 0; j < sub->n; j++, k++) {
@@ -476,14 +480,35 @@ static void assert_rows_of(const dp_cloud *sub, const dp_cloud *all)
 			k++;
 		assert_true(k < all->n);
 		assert_true(all->nx[k] == sub->nx[j] && all->ny[k] == sub->ny[j] && all->nz[k] == sub->nz[j]);
+		row[j] = k;
 	}
+}
+
+/* `fill`'s samples, anchors and settle ways are rows of `off`'s, the same
+ * rows of each. */
+static void assert_same_rows(const dp_result *fill, const dp_result *off)
+{
+	assert_int_equal(fill->anchors.n, fill->wlop.n);
+	size_t *row = malloc(fill->wlop.n * sizeof *row), *arow = malloc(fill->wlop.n * sizeof *arow);
+	assert_non_null(row);
+	assert_non_null(arow);
+	assert_rows_of(&fill->wlop, &off->wlop, row);
+	assert_rows_of(&fill->anchors, &off->anchors, arow);
+	for (size_t j = 0; j < fill->wlop.n; j++) {
+		assert_int_equal(row[j], arow[j]);
+		assert_int_equal(fill->settled_by[j], off->settled_by[row[j]]);
+	}
+	free(row);
+	free(arow);
 }
 
 /* A one-sided scan with a thin part (a one-view torus, its tube 4 r across
  * at 1000) keeps the coarse level for WLOP, sinking and the skeleton, and
  * its surface stage starts on fill_samples of those deep points: the same
- * rows of the samples and anchors, the count asked for in the end. A scan
- * from every side (the complete sphere of test_coarser_level) never does. */
+ * rows of the samples and anchors, the count asked for in the end; kept
+ * for a count below the coarse level, the samples and anchors are the
+ * subset's rows among those kept. A scan from every side (the complete
+ * sphere of test_coarser_level) never does. */
 static void test_fill_level(void **state)
 {
 	(void)state;
@@ -513,15 +538,26 @@ static void test_fill_level(void **state)
 	assert_int_equal(fill.wlop.n, m);
 	assert_int_equal(fill.anchors.n, m);
 	assert_int_equal(fill.surface.n, off.surface.n);
-	assert_rows_of(&fill.wlop, &off.wlop);
-	assert_rows_of(&fill.anchors, &off.anchors);
-	const dp_sink_stats *ss = &fill.sink_stats;
-	assert_int_equal(ss->settled_front + ss->settled_medial + ss->settled_width + ss->settled_slow +
-				 ss->settled_flat + ss->unsettled,
-			 m);
+	assert_same_rows(&fill, &off);
 	assert_true(ef.coverage >= 0.99);
 	assert_true(ef.normal_flipped <= 0.01);
 	assert_true(ef.accuracy_mean <= FILL_ACCURACY_RATIO * eo.accuracy_mean);
+	/* 1000 kept: of the 4000 deep points the subset's 2000 rows come first */
+	dp_result few = {0};
+	p.refine.fill_samples = m;
+	p.wlop.samples = 1000;
+	if (dp_consolidate(tk_cl_context(), &scan, &p, &few, &err) != DP_OK)
+		fail_msg("%s", err.message);
+	printf("1000 kept: %zu samples and anchors among them\n", few.wlop.n);
+	assert_int_equal(few.surface.n, 1000);
+	assert_int_equal(few.filled_from, fill.filled_from);
+	assert_true(few.wlop.n > 0 && few.wlop.n < few.surface.n);
+	assert_same_rows(&few, &off);
+	const dp_sink_stats *ss = &few.sink_stats;
+	assert_int_equal(ss->settled_front + ss->settled_medial + ss->settled_width + ss->settled_slow +
+				 ss->settled_flat + ss->unsettled,
+			 few.anchors.n);
+	dp_result_free(&few);
 	dp_result_free(&fill);
 	dp_result_free(&off);
 	dp_cloud_free(&mesh);

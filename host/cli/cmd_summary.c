@@ -17,7 +17,10 @@ static const char *stop_reason(const dp_json *report, int k)
 	if (k == 1)
 		return NULL;
 	if (k == 2)
-		return dp_json_number(report, "results.sink.unsettled", 0) > 0 ? "cap" : "settled";
+		/* reports before 0.12 have no converged: then the anchors' count */
+		return dp_json_number(report, "results.sink.converged", dp_json_number(report, "results.sink.unsettled", 0) == 0)
+			       ? "settled"
+			       : "cap";
 	snprintf(path, sizeof path, "results.%s.converged", stages[k]);
 	if (!dp_json_number(report, path, 0))
 		return "cap";

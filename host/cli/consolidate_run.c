@@ -14,7 +14,7 @@
 static void capped_stages(const dp_result *r, char *out, size_t size)
 {
 	const char *names[4] = {"wlop", "sink", "skeleton", "surface"};
-	int capped[4] = {!r->wlop_stats.converged, r->sink_stats.unsettled > 0, !r->skeleton_stats.converged,
+	int capped[4] = {!r->wlop_stats.converged, !r->sink_stats.converged, !r->skeleton_stats.converged,
 			 !r->surface_stats.converged};
 	size_t len = 0;
 	out[0] = '\0';

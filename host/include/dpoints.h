@@ -603,6 +603,9 @@ typedef struct dp_sink_stats {
 	size_t unsettled;        /* still moving when max_iters stopped the loop */
 	double seconds;
 	double pair_evaluations; /* neighbour pairs visited by the operators */
+	int converged;           /* 1: every point settled within max_iters; 0: the cap stopped the loop (where
+	                            dp_consolidate keeps a subset of the anchors, the counts above are those of
+	                            the anchors kept, while this describes the whole run) */
 } dp_sink_stats;
 
 /* How a sinking point stopped (the steps above). */
@@ -973,8 +976,9 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * exceed the input's (upsampling, paper Fig. 15). The coarse level holds at
  * most the input's distinct positions. A scan taken from one side with no
  * thin part may run a coarser coarse level (coarse_min), whose far side then
- * fills sooner; one with a thin part starts its surface stage on a subset of
- * the coarse level's deep points instead (fill_samples). A count below the coarse level runs at the coarse level all
+ * fills sooner; one whose coarse level stays above fill_samples (a thin part
+ * keeps it at coarse_samples) starts its surface stage on a subset of that
+ * level's deep points instead (fill_samples). A count below the coarse level runs at the coarse level all
  * the same and keeps a farthest-point subset of the deep points (the same
  * rows of every array of dp_result; ran_with says so): run at 1000, the demo
  * chair's WLOP normals pointed 98% inwards and its surface lay 0.034
@@ -1031,8 +1035,9 @@ typedef struct dp_refine_params {
 	                             trades); default 0 */
 	int even_iters;           /* surface iterations relaxing each even-spacing round, >= 1; default 3 */
 	size_t fill_samples;      /* a scan taken from one side (as for coarse_min) whose coarse level holds more
-	                             deep points than this runs WLOP, sinking and the meso-skeleton there, then
-	                             the surface stage's first level on a farthest-point subset of this many of
+	                             deep points than this (at the defaults: a thin part kept it at
+	                             coarse_samples) runs WLOP, sinking and the meso-skeleton there, then the
+	                             surface stage's first level on a farthest-point subset of this many of
 	                             them, from which the levels grow as above: thin parts need the coarse
 	                             level's spacing to sink right, while the far side fills in fewer spacings
 	                             from the subset. 0 = off, else at least 32; default 2000 (one-view bunny,
@@ -1104,16 +1109,20 @@ typedef struct dp_result {
 	size_t samples_turned;    /* WLOP samples' normals turned to face the scanner before sinking
 	                             (dp_surface_params.face_scanner) */
 	size_t ran_with;          /* deep points the stages ran with: the count asked for, or the coarse level's
-	                             when fewer were asked for (level[0].points: dp_refine_params.coarse_samples
-	                             at most the distinct input positions, or coarse_min's choice), of which the
+	                             when fewer were asked for (dp_refine_params.coarse_samples at most the
+	                             distinct input positions, or coarse_min's choice: level[0].points, or
+	                             filled_from where the surface started on a subset), of which the
 	                             result keeps an even subset; r,
 	                             level[], the stages' stats, even_moved, silhouette_capped and
 	                             samples_turned then describe that run, the settle counts of sink_stats the
 	                             anchors kept */
 	size_t filled_from;       /* the coarse level's count when the surface stage's first level ran on a subset
-	                             of it (dp_refine_params.fill_samples; level[0].points of them): wlop_stats
-	                             and skeleton_stats describe the run at this count, while wlop, anchors,
-	                             settled_by and sink_stats' settle counts hold the subset; 0: no subset */
+	                             of it (dp_refine_params.fill_samples; level[0].points of them, at
+	                             level[0].r, the subset's spacing): WLOP, sinking and the skeleton ran at
+	                             this count (wlop_stats, skeleton_stats, sink_stats but its settle counts,
+	                             silhouette_capped and samples_turned describe that run), while wlop,
+	                             anchors, settled_by and the settle counts hold the subset, from whose
+	                             samples every level takes the scan's outline; 0: no subset */
 } dp_result;
 
 /*

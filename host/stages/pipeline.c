@@ -267,7 +267,9 @@ static void keep_rows(dp_cloud *c, const uint32_t *keep, size_t m)
 
 /* An even subset of m of the deep points, picked over `by` (the surface,
  * or the WLOP samples before there is one) by dp_refine_subset: the same
- * rows of every array (those not yet made stay empty). */
+ * rows of every array (those not yet made stay empty). The samples and
+ * anchors hold the first rows only, those of the surface stage's first
+ * level (dp_result), so they keep the picks among those rows. */
 static dp_status keep_subset(dp_result *res, const dp_cloud *by, size_t m, dp_error *err)
 {
 	uint32_t *keep = dp_alloc_array(m, sizeof *keep);
@@ -275,19 +277,22 @@ static dp_status keep_subset(dp_result *res, const dp_cloud *by, size_t m, dp_er
 		return dp_fail(err, DP_ERR_NOMEM, "out of memory choosing %zu deep points", m);
 	dp_status st = dp_refine_subset(by->n, by->x, by->y, by->z, m, keep, err);
 	if (st == DP_OK) {
+		size_t first = 0; /* picks among the samples' rows: keep is ascending */
+		while (first < m && keep[first] < res->wlop.n)
+			first++;
 		keep_rows(&res->surface, keep, m);
 		keep_rows(&res->skeleton, keep, m);
-		keep_rows(&res->wlop, keep, m);
-		keep_rows(&res->anchors, keep, m);
+		keep_rows(&res->wlop, keep, first);
+		keep_rows(&res->anchors, keep, first);
+		for (size_t i = 0; res->eta && i < m; i++) {
+			res->eta[i] = res->eta[keep[i]];
+			res->length[i] = res->length[keep[i]];
+		}
 		/* the settle counts describe the anchors kept, as anchors.ply does */
 		dp_sink_stats *ss = &res->sink_stats;
 		ss->settled_front = ss->settled_medial = ss->settled_width = ss->settled_slow = ss->settled_flat =
 			ss->unsettled = 0;
-		for (size_t i = 0; i < m; i++) {
-			if (res->eta) {
-				res->eta[i] = res->eta[keep[i]];
-				res->length[i] = res->length[keep[i]];
-			}
+		for (size_t i = 0; i < first; i++) {
 			unsigned char why = res->settled_by[i] = res->settled_by[keep[i]];
 			ss->settled_front += why == DP_SETTLE_FRONT;
 			ss->settled_medial += why == DP_SETTLE_MEDIAL;

@@ -534,6 +534,7 @@ static dp_status run(dp_context *ctx, sink_state *st, double r, const dp_sink_pa
 			return rc;
 	}
 	stats->unsettled = st->n - settled_total;
+	stats->converged = settled_total == st->n;
 	if (st->flat_on) {
 		/* Every point that stopped without evidence (slow-down, the width
 		 * bound, a plate's band) takes its face's depth from all the
