@@ -129,10 +129,10 @@ static int run_case(dp_context *ctx, case_kind k, size_t m, const options *o)
 	if (dp_shape_fit_points(&s, &res.skeleton, cell, &sk, &err) != DP_OK ||
 	    dp_shape_fit_points(&s, &res.surface, cell, &su, &err) != DP_OK)
 		goto out;
-	printf("{\"bench\":\"quality_sizes\",\"case\":\"%s\",\"samples\":%zu,\"raw\":%zu,\"noise\":%g,\"seed\":%llu,"
-	       "\"r\":%.6g,\"unit_in_r\":%.3f,\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
+	printf("{\"bench\":\"quality_sizes\",\"case\":\"%s\",\"samples\":%zu,\"filled_from\":%zu,\"raw\":%zu,"
+	       "\"noise\":%g,\"seed\":%llu,\"r\":%.6g,\"unit_in_r\":%.3f,\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
 	       "\"surface_converged\":%s,\"seconds\":%.3f,\"skeleton_mean\":%.4f,\"surface_mean\":%.4f",
-	       case_name[k], res.wlop.n, in.n, o->noise, (unsigned long long)o->seed, res.r, u / res.r,
+	       case_name[k], res.surface.n, res.filled_from, in.n, o->noise, (unsigned long long)o->seed, res.r, u / res.r,
 	       res.wlop_stats.iterations, res.sink_stats.iterations, res.skeleton_stats.iterations,
 	       res.surface_stats.iterations, res.surface_stats.converged ? "true" : "false", res.seconds_total,
 	       sk.skeleton_mean / u, su.surface_mean / u);

@@ -986,12 +986,12 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  *
  * The data term holds the points on the scanned part while only repulsion
  * feeds the completed part, so the completed part ends up sparser: on the
- * one-view bunny (WLOP seed 1) the points without input support (η <= 2)
- * are 27% of them and cover about half of the surface, and the spacing
- * varies by 0.50 over the set. even_rounds moves points
- * across that step directly (dp_refine_even) instead of waiting for
- * repulsion to carry them, which takes on the order of D² iterations over D
- * r. Three rounds of three iterations, means of WLOP seeds 1-6 (coverage /
+ * one-view bunny (WLOP seed 1, fill_samples 0) the points without input
+ * support (η <= 2) are 27% of them and cover about half of the surface, and
+ * the spacing varies by 0.50 over the set (0.31 from the fill level).
+ * even_rounds moves points across that step directly (dp_refine_even)
+ * instead of waiting for repulsion to carry them, which takes on the order
+ * of D² iterations over D r. Three rounds (measured before fill_samples) of three iterations, means of WLOP seeds 1-6 (coverage /
  * flipped / spacing variation / 95th-percentile accuracy; off first):
  * one-view bunny 0.845 / 0.94% / 0.50 / 0.034 -> 0.924 / 2.06% / 0.27 /
  * 0.072, two views 0.967 / 0.48% / 0.22 / 0.017 -> 0.974 / 0.58% / 0.21 /
