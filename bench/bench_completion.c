@@ -27,8 +27,9 @@
  *            the skeleton lie from the data (median and 90th percentile, in
  *            r), which a thin part turned into a cloud makes many r.
  * Every case with a ground-truth mesh also prints sink_depth: per way of
- * settling (dp_settle), how far the coarse level's anchors lie from the mesh
- * point nearest their samples against the true depth there, the radius of
+ * settling (dp_settle), how far the coarse level's anchors (a one-sided
+ * scan's: those of the fill level, dp_refine_params.fill_samples) lie from
+ * the mesh point nearest their samples against the true depth there, the radius of
  * the largest ball inside the mesh that touches it at that point (the medial
  * ball, which a perfect anchor would centre; read two ways that bracket it,
  * see true_depth): medians in r of the distance, the true depth and the
@@ -117,7 +118,7 @@ static void print_stages(const dp_result *res)
 	       res->skeleton_stats.seconds, res->surface_stats.seconds, res->seconds_total,
 	       res->wlop_stats.iterations, res->sink_stats.iterations, res->skeleton_stats.iterations,
 	       res->surface_stats.iterations, res->wlop_stats.converged ? "false" : "true",
-	       res->sink_stats.unsettled ? "true" : "false", res->skeleton_stats.converged ? "false" : "true",
+	       res->sink_stats.converged ? "false" : "true", res->skeleton_stats.converged ? "false" : "true",
 	       res->surface_stats.converged ? "false" : "true", res->surface_stats.pair_evaluations,
 	       res->surface_stats.normals_disagreeing, res->surface_stats.escaped, res->even_moved,
 	       res->surface_stats.silhouette_axis[0], res->surface_stats.silhouette_axis[1],
@@ -266,7 +267,7 @@ static void print_seat(const dp_result *res)
 	const dp_cloud *w = &res->wlop, *a = &res->anchors;
 	float *rim = malloc(w->n * sizeof *rim), *middle = malloc(w->n * sizeof *middle);
 	size_t nrim = 0, nmiddle = 0;
-	double r = res->level[0].r;
+	double r = res->sink_r;
 	for (size_t i = 0; rim && middle && i < w->n; i++) {
 		if (fabs(w->z[i] - c.seat_hi[2]) > r || w->nz[i] < 0.9f)
 			continue;
@@ -440,7 +441,7 @@ static void print_sink_depth(const dp_result *res, const dp_cloud *mesh)
 	static const char *const kind[] = {"unsettled", "front", "medial", "width", "slow", "flat"};
 	_Static_assert(sizeof kind / sizeof *kind == SETTLE_KINDS, "a name for every dp_settle code");
 	const dp_cloud *w = &res->wlop, *a = &res->anchors;
-	double r = res->level[0].r;
+	double r = res->sink_r;
 	dp_error err = {0};
 	truth_set *t = calloc(1, sizeof *t);
 	size_t n = a->n;

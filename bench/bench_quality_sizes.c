@@ -130,10 +130,11 @@ static int run_case(dp_context *ctx, case_kind k, size_t m, const options *o)
 	    dp_shape_fit_points(&s, &res.surface, cell, &su, &err) != DP_OK)
 		goto out;
 	printf("{\"bench\":\"quality_sizes\",\"case\":\"%s\",\"samples\":%zu,\"filled_from\":%zu,\"raw\":%zu,"
-	       "\"noise\":%g,\"seed\":%llu,\"r\":%.6g,\"unit_in_r\":%.3f,\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
+	       "\"noise\":%g,\"seed\":%llu,\"r\":%.6g,\"unit_in_r\":%.3f,"
+	       "\"iterations\":{\"wlop\":%d,\"sink\":%d,\"skeleton\":%d,\"surface\":%d},"
 	       "\"surface_converged\":%s,\"seconds\":%.3f,\"skeleton_mean\":%.4f,\"surface_mean\":%.4f",
-	       case_name[k], res.surface.n, res.filled_from, in.n, o->noise, (unsigned long long)o->seed, res.r, u / res.r,
-	       res.wlop_stats.iterations, res.sink_stats.iterations, res.skeleton_stats.iterations,
+	       case_name[k], res.surface.n, res.filled_from, in.n, o->noise, (unsigned long long)o->seed, res.r,
+	       u / res.r, res.wlop_stats.iterations, res.sink_stats.iterations, res.skeleton_stats.iterations,
 	       res.surface_stats.iterations, res.surface_stats.converged ? "true" : "false", res.seconds_total,
 	       sk.skeleton_mean / u, su.surface_mean / u);
 	int first = 1;
@@ -239,7 +240,7 @@ static int run_chair(dp_context *ctx, int res_rays, size_t samples)
 	printf("{\"bench\":\"quality_chair\",\"rays\":%d,\"raw\":%zu,\"samples\":%zu,\"r\":%.6g,\"iterations\":{\"wlop\":%d,"
 	       "\"sink\":%d,\"skeleton\":%d,\"surface\":%d},\"sink_settled\":{\"front\":%zu,\"medial\":%zu,"
 	       "\"width\":%zu,\"slow\":%zu,\"flat\":%zu,\"unsettled\":%zu},\"seconds\":%.3f}\n",
-	       res_rays, scan.n, res.wlop.n, res.r, res.wlop_stats.iterations, res.sink_stats.iterations,
+	       res_rays, scan.n, res.surface.n, res.r, res.wlop_stats.iterations, res.sink_stats.iterations,
 	       res.skeleton_stats.iterations, res.surface_stats.iterations, res.sink_stats.settled_front,
 	       res.sink_stats.settled_medial, res.sink_stats.settled_width, res.sink_stats.settled_slow,
 	       res.sink_stats.settled_flat, res.sink_stats.unsettled,

@@ -55,6 +55,9 @@ if res["deep_points"] != m or not res["r"] > 0:
 run, coarse = res["deep_points_run"], r["parameters"]["refine"]["coarse_samples"]
 if not m < run <= coarse:
     sys.exit("report.json: %d deep points run for %d asked, coarse level %d" % (run, m, coarse))
+# the spacing sinking ran at, and whether every anchor settled
+if not isinstance(res["sink"]["converged"], bool) or res["sink"]["r"] <= 0:
+    sys.exit("report.json: sink %r" % res["sink"])
 # a complete torus is no one-sided scan: its surface stage starts on the whole coarse level
 if r["parameters"]["refine"]["fill_samples"] != 2000 or res["filled_from"] != 0:
     sys.exit("report.json: fill_samples %s, filled_from %s" % (r["parameters"]["refine"]["fill_samples"],

@@ -250,8 +250,7 @@ static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, doub
 	dp_params_default(&params);
 	params.sink.medial_margin_r = margin_r;
 	params.sink.medial_fraction = fraction;
-	/* the surface stage from every deep point, as measured above: depths in
-	 * the coarse level's r, which then is level[0].r */
+	/* the surface stage from every deep point, as measured above */
 	params.refine.fill_samples = 0;
 	dp_result res = {0};
 	dp_error err = {0};
@@ -265,7 +264,7 @@ static double one_view_coverage(const dp_cloud *mesh, const dp_cloud *view, doub
 		       dz = res.anchors.z[i] - res.wlop.z[i];
 		depth += sqrt(dx * dx + dy * dy + dz * dz);
 	}
-	*mean_depth_r = depth / (double)res.anchors.n / res.level[0].r;
+	*mean_depth_r = depth / (double)res.anchors.n / res.sink_r;
 	printf("medial margin %.2f r + %.2f x depth: %zu deep points, anchors' mean depth %.2f r, coverage %.4f\n",
 	       margin_r, fraction, res.surface.n, *mean_depth_r, e.coverage);
 	dp_result_free(&res);

@@ -539,6 +539,9 @@ static void test_fill_level(void **state)
 	assert_int_equal(fill.anchors.n, m);
 	assert_int_equal(fill.surface.n, off.surface.n);
 	assert_same_rows(&fill, &off);
+	/* the sinking's own outcome, whichever anchors are kept */
+	assert_int_equal(fill.sink_stats.converged, off.sink_stats.converged);
+	assert_true(fill.sink_r == off.level[0].r && fill.level[0].r > fill.sink_r);
 	assert_true(ef.coverage >= 0.99);
 	assert_true(ef.normal_flipped <= 0.01);
 	assert_true(ef.accuracy_mean <= FILL_ACCURACY_RATIO * eo.accuracy_mean);
@@ -553,6 +556,7 @@ static void test_fill_level(void **state)
 	assert_int_equal(few.filled_from, fill.filled_from);
 	assert_true(few.wlop.n > 0 && few.wlop.n < few.surface.n);
 	assert_same_rows(&few, &off);
+	assert_int_equal(few.sink_stats.converged, off.sink_stats.converged);
 	const dp_sink_stats *ss = &few.sink_stats;
 	assert_int_equal(ss->settled_front + ss->settled_medial + ss->settled_width + ss->settled_slow +
 				 ss->settled_flat + ss->unsettled,

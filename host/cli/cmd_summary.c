@@ -16,11 +16,11 @@ static const char *stop_reason(const dp_json *report, int k)
 	char path[64];
 	if (k == 1)
 		return NULL;
-	if (k == 2)
-		/* reports before 0.12 have no converged: then the anchors' count */
-		return dp_json_number(report, "results.sink.converged", dp_json_number(report, "results.sink.unsettled", 0) == 0)
-			       ? "settled"
-			       : "cap";
+	if (k == 2) {
+		/* reports written before the sinking's converged: the anchors' count */
+		int none_unsettled = dp_json_number(report, "results.sink.unsettled", 0) == 0;
+		return dp_json_number(report, "results.sink.converged", none_unsettled) ? "settled" : "cap";
+	}
 	snprintf(path, sizeof path, "results.%s.converged", stages[k]);
 	if (!dp_json_number(report, path, 0))
 		return "cap";

@@ -978,9 +978,10 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * thin part may run a coarser coarse level (coarse_min), whose far side then
  * fills sooner; one whose coarse level stays above fill_samples (a thin part
  * keeps it at coarse_samples) starts its surface stage on a subset of that
- * level's deep points instead (fill_samples). A count below the coarse level runs at the coarse level all
- * the same and keeps a farthest-point subset of the deep points (the same
- * rows of every array of dp_result; ran_with says so): run at 1000, the demo
+ * level's deep points instead (fill_samples). A count below the coarse level
+ * runs at the coarse level all the same and keeps a farthest-point subset of
+ * the deep points (the same rows of every array of dp_result, the samples'
+ * and anchors' among their own rows; ran_with says so): run at 1000, the demo
  * chair's WLOP normals pointed 98% inwards and its surface lay 0.034
  * diagonals off on average, kept from 4000 0.0048 (README).
  *
@@ -991,8 +992,9 @@ DP_API dp_status dp_surface(dp_context *ctx, const dp_cloud *input, const dp_clo
  * the spacing varies by 0.50 over the set (0.31 from the fill level).
  * even_rounds moves points across that step directly (dp_refine_even)
  * instead of waiting for repulsion to carry them, which takes on the order
- * of D² iterations over D r. Three rounds (measured before fill_samples) of three iterations, means of WLOP seeds 1-6 (coverage /
- * flipped / spacing variation / 95th-percentile accuracy; off first):
+ * of D² iterations over D r. Measured before fill_samples, three rounds of
+ * three iterations, means of WLOP seeds 1-6 (coverage / flipped / spacing
+ * variation / 95th-percentile accuracy; off first):
  * one-view bunny 0.845 / 0.94% / 0.50 / 0.034 -> 0.924 / 2.06% / 0.27 /
  * 0.072, two views 0.967 / 0.48% / 0.22 / 0.017 -> 0.974 / 0.58% / 0.21 /
  * 0.021, the demo chair 0.971 / 0.91% / 0.23 / 0.0119 -> 0.977 / 0.95% /
@@ -1121,8 +1123,11 @@ typedef struct dp_result {
 	                             level[0].r, the subset's spacing): WLOP, sinking and the skeleton ran at
 	                             this count (wlop_stats, skeleton_stats, sink_stats but its settle counts,
 	                             silhouette_capped and samples_turned describe that run), while wlop,
-	                             anchors, settled_by and the settle counts hold the subset, from whose
-	                             samples every level takes the scan's outline; 0: no subset */
+	                             anchors, settled_by and the settle counts hold the subset (those of its
+	                             rows kept, for a count below the coarse level), from whose samples every
+	                             level takes the scan's outline; 0: no subset */
+	double sink_r;            /* the spacing r sinking and the meso-skeleton ran at: the coarse level's WLOP
+	                             samples' (level[0].r but where filled_from) */
 } dp_result;
 
 /*

@@ -189,6 +189,7 @@ static void fill_report(dp_json_writer *w, const report_arg *a)
 	dp_json_int(w, "settled_flat", (long long)r->sink_stats.settled_flat);
 	dp_json_int(w, "unsettled", (long long)r->sink_stats.unsettled);
 	dp_json_bool(w, "converged", r->sink_stats.converged);
+	dp_json_num(w, "r", r->sink_r);
 	dp_json_num(w, "seconds", r->sink_stats.seconds);
 	dp_json_num(w, "pair_evaluations", r->sink_stats.pair_evaluations);
 	dp_json_end_object(w);

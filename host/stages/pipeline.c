@@ -591,6 +591,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 		st = dp_fail(err, DP_ERR_NOMEM, "sink: out of memory for %zu points", res->wlop.n);
 		goto fail;
 	}
+	res->sink_r = res->r;
 	st = dp_sink(ctx, &res->wlop, res->r, &params->sink, &res->anchors, res->settled_by, &res->sink_stats, err);
 	if (st != DP_OK) {
 		in_stage(err, st, "sink");

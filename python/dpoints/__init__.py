@@ -202,8 +202,8 @@ class Result:
     deep_points_run is the count the stages ran at (above n when these were
     kept from a coarse level); filled_from is the coarse level's count when a
     one-sided scan's surface stage started on a subset of it (wlop and
-    anchors are then that subset; refine_fill_samples), else 0; report is
-    report.json as a dict."""
+    anchors are then that subset, or its rows among those kept;
+    refine_fill_samples), else 0; report is report.json as a dict."""
 
     def __init__(self, capsule, points):
         self._capsule = capsule
