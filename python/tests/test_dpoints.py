@@ -208,8 +208,10 @@ def test_one_sided_scan_fills_from_a_subset():
     off = dpoints.consolidate(pts, refine_coarse_min=0, refine_fill_samples=0)
     assert off.filled_from == 0 and len(off.wlop) == len(pts)
     assert set(map(tuple, res.wlop.points)) <= set(map(tuple, off.wlop.points))
-    # the far half, which no ray reached, is completed
-    assert (res.surface[:, 2] < -0.5).mean() > 0.1
+    # the far half, which no ray reached, gets its share of the points (measured: 40% of them, 20% without
+    # the subset, whose first level stops at its cap with the rest still on the scanned half)
+    far, far_off = ((r.surface[:, 2] < 0).mean() for r in (res, off))
+    assert far > 0.3 and far > 1.5 * far_off, (far, far_off)
 
 
 def test_write_and_read_back(tmp_path):
