@@ -242,6 +242,20 @@ if q["face_scanner"] or q["face_scanner_cos"] != 0.7 or u["scanner"] != [0, 0, 0
 print("towards %s, %d held normals turned" % (t, s["scanner_turned"]))
 ' "$tmp/face" "$tmp/no_face" 2>&1); then ok "--no-face-scanner: $msg"; else fail "--no-face-scanner: $msg"; fi
 fi
+# The fill level: the one-sided scan's surface starts on a subset of its
+# coarse level, which the summary line and report.json say.
+if [ -s "$tmp/torus1.ply" ] && expect_ok fill consolidate "$tmp/torus1.ply" -o "$tmp/fill" --samples $m \
+	--view-axis -3,0,0 --fill-samples 200; then
+	if msg=$(py '
+import json, re, sys
+line = open(sys.argv[2]).read()
+r = json.load(open(sys.argv[1] + "/report.json"))["results"]
+run, filled, first = r["deep_points_run"], r["filled_from"], r["surface"]["levels"][0]["points"]
+if filled != run or first != 200 or "(kept from %d; surface from a subset of 200)" % run not in line:
+    sys.exit("filled_from %s, run %s, first level %s: %s" % (filled, run, first, line))
+print(line.strip())
+' "$tmp/fill" "$tmp/fill.out" 2>&1); then ok "--fill-samples 200: $msg"; else fail "--fill-samples 200: $msg"; fi
+fi
 run bad_face consolidate "$tmp/torus.ply" -o "$tmp/bad" --face-scanner-cos 1
 one_error_line bad_face 2 "face-scanner cosine"
 run bad_axis consolidate "$tmp/torus.ply" -o "$tmp/bad" --view-axis 0,1

@@ -91,9 +91,15 @@ int dp_cli_consolidate_cloud(const char *cmd, dp_context *ctx, const dp_consolid
 				"(report.json has the numbers; raise --wlop-iters, --sink-iters, --skeleton-iters or "
 				"--surface-iters)\n",
 			cmd, label, summary->capped);
-	char kept[48] = "";
+	char kept[96] = "";
+	int len = 0;
 	if (res->ran_with > res->surface.n)
-		snprintf(kept, sizeof kept, " (kept from %zu)", res->ran_with);
+		len = snprintf(kept, sizeof kept, " (kept from %zu", res->ran_with);
+	if (res->filled_from)
+		len += snprintf(kept + len, sizeof kept - (size_t)len, "%ssurface from a subset of %zu", len ? "; " : " (",
+				res->level[0].points);
+	if (len)
+		snprintf(kept + len, sizeof kept - (size_t)len, ")");
 	if (!job->json_stdout)
 		printf("consolidate: %s: %zu points -> %zu deep points%s, r = %.6g; iterations wlop %d, sink %d (%zu unsettled), "
 	       "skeleton %d, surface %d; seconds wlop %.2f, normals %.2f, sink %.2f, skeleton %.2f, surface %.2f, "
