@@ -608,7 +608,7 @@ dp_status dp_consolidate(dp_context *ctx, const dp_cloud *input, const dp_params
 	/* A one-sided scan's far side fills from an even subset of the deep
 	 * points: sinking and the skeleton need the coarse level's spacing for
 	 * its thin parts, completion a coarser one (dp_refine_params). */
-	if (one_side && params->refine.fill_samples && coarse_count && res->wlop.n > params->refine.fill_samples) {
+	if (fill_ok && one_side && res->wlop.n > params->refine.fill_samples) {
 		res->filled_from = res->wlop.n;
 		st = keep_subset(res, &res->wlop, params->refine.fill_samples, err);
 		if (st == DP_OK)
